@@ -1,0 +1,109 @@
+"""Python driver around the compiled stick–slip loop: buffers, streaming, status."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from microslip.integrators import kernel
+from microslip.integrators.steppers import DP54, RK4
+from microslip.integrators.switching import EVENT_NAMES, initial_direction
+
+METHODS = {"rk4": RK4, "event": DP54}
+
+
+@dataclass(frozen=True)
+class RawTrajectory:
+    """Samples and switching instants straight from the kernel (SI units)."""
+
+    t: np.ndarray  # [s]
+    states: np.ndarray  # (n, 4): y [m], ẏ [m/s], x [m], ẋ [m/s]
+    direction: np.ndarray  # sliding direction at each sample: -1, 0 (stick), +1
+    event_t: np.ndarray  # [s]
+    event_kind: np.ndarray  # codes of EVENT_NAMES
+    event_states: np.ndarray  # (n_events, 4), state just after each switch
+    n_steps: int
+    n_rejected: int
+
+
+def integrate(
+    method: str,
+    coeffs: np.ndarray,
+    state0: tuple[float, float, float, float],
+    t0: float,
+    t_end: float,
+    *,
+    dt: float = 0.0,
+    h_max: float = np.inf,
+    h_initial: float = 0.0,
+    rtol: float = 1e-10,
+    atol: np.ndarray | None = None,
+    t_eval: np.ndarray | None = None,
+    save_every: int = 1,
+    buffer_size: int = 1 << 16,
+) -> RawTrajectory:
+    """Integrate (2.4)–(2.5) from ``state0`` at ``t0`` to ``t_end`` with located switching.
+
+    Inputs are assumed validated (see :func:`microslip.simulate`).
+    """
+    code = METHODS[method]
+    atol = np.zeros(4) if atol is None else np.asarray(atol, dtype=float)
+    t_eval = np.empty(0) if t_eval is None else np.asarray(t_eval, dtype=float)
+    s0 = tuple(float(v) for v in state0)
+    direction0 = initial_direction(s0, t0, coeffs)
+    carry = np.zeros(kernel.CARRY_SIZE)
+    carry[kernel.C_T] = t0
+    carry[kernel.C_Y : kernel.C_XD + 1] = s0
+    carry[kernel.C_DIR] = direction0
+    carry[kernel.C_H] = h_initial
+    carry[kernel.C_K] = 1
+    carry[kernel.C_T0] = t0
+
+    t_parts, s_parts, d_parts = [], [], []
+    e_t, e_k, e_s = [], [], []
+    if t_eval.size == 0:  # step output starts with the initial state
+        t_parts.append(np.array([t0]))
+        s_parts.append(np.array([s0]))
+        d_parts.append(np.array([direction0]))
+    while True:
+        out_t = np.empty(buffer_size)
+        out_s = np.empty((buffer_size, 4))
+        out_d = np.empty(buffer_size)
+        ev_t = np.empty(buffer_size // 4)
+        ev_k = np.empty(buffer_size // 4, dtype=np.int64)
+        ev_s = np.empty((buffer_size // 4, 4))
+        n, n_ev, status = kernel.integrate_chunk(
+            code, carry, t_end, dt, h_max, rtol, atol, coeffs, t_eval, save_every,
+            out_t, out_s, out_d, ev_t, ev_k, ev_s,
+        )  # fmt: skip
+        t_parts.append(out_t[:n].copy())
+        s_parts.append(out_s[:n].copy())
+        d_parts.append(out_d[:n].copy())
+        e_t.append(ev_t[:n_ev].copy())
+        e_k.append(ev_k[:n_ev].copy())
+        e_s.append(ev_s[:n_ev].copy())
+        if status == kernel.DONE:
+            break
+        if status == kernel.STALLED:
+            raise RuntimeError(
+                f"switching stalled at t={carry[kernel.C_T]!r} s: more than 64 switches "
+                "without progress (inconsistent friction law?)"
+            )
+        if status == kernel.STEP_UNDERFLOW:
+            raise RuntimeError(
+                f"step size underflow at t={carry[kernel.C_T]!r} s; loosen rtol/atol"
+            )
+    return RawTrajectory(
+        t=np.concatenate(t_parts),
+        states=np.concatenate(s_parts),
+        direction=np.concatenate(d_parts),
+        event_t=np.concatenate(e_t),
+        event_kind=np.concatenate(e_k),
+        event_states=np.concatenate(e_s),
+        n_steps=int(carry[kernel.C_STEPS]),
+        n_rejected=int(carry[kernel.C_REJECTS]),
+    )
+
+
+__all__ = ["EVENT_NAMES", "METHODS", "RawTrajectory", "integrate"]

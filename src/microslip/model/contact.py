@@ -1,0 +1,55 @@
+"""Normal contact law: the power-law compliant interface, eqs. (2.1)–(2.4).
+
+Sign convention: y > 0 is penetration (y measured downward), y <= 0 a loss of contact.
+microslip reports the compressive magnitude |R| >= 0 of the paper's reaction
+R(y) = -S c_n y^m2 (2.3); the normal equation (2.4) then reads m ÿ = m g - |R|.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numba import njit
+
+from microslip.model.coefficients import AREA_CN, EXPONENT, GRAVITY, MASS
+from microslip.model.parameters import Parameters
+
+__all__ = ["normal_reaction", "potential_energy", "reaction", "reaction_array"]
+
+
+@njit(cache=True, inline="always")
+def reaction(y: float, ydot: float, c: np.ndarray) -> float:
+    """Compressive normal reaction |R| = S c_n max(y, 0)^m2 [N], eq. (2.3).
+
+    ``ydot`` [m/s] is unused by the elastic law; it is part of the signature so that a
+    dissipative contact law can take its place without touching the integrators.
+    """
+    if y <= 0.0:
+        return 0.0
+    m2 = c[EXPONENT]
+    if m2 == 2.0:
+        return c[AREA_CN] * y * y
+    return c[AREA_CN] * y**m2
+
+
+@njit(cache=True, inline="always")
+def normal_acceleration(y: float, ydot: float, c: np.ndarray) -> float:
+    """ÿ = g - |R|/m [m/s^2], eq. (2.4)."""
+    return c[GRAVITY] - reaction(y, ydot, c) / c[MASS]
+
+
+def reaction_array(params: Parameters, y: np.ndarray) -> np.ndarray:
+    """|R(y)| [N] for an array of normal positions y [m] (NumPy, eq. 2.3)."""
+    y = np.asarray(y, dtype=float)
+    return params.stiffness_coefficient * np.maximum(y, 0.0) ** params.m2
+
+
+def normal_reaction(params: Parameters, y: float) -> float:
+    """|R(y)| [N] for one normal position y [m], eq. (2.3)."""
+    return float(reaction_array(params, np.asarray(y)))
+
+
+def potential_energy(params: Parameters, y: np.ndarray) -> np.ndarray:
+    """V(y) = S c_n max(y,0)^(m2+1)/(m2+1) - m g y [J], the potential of (2.4)."""
+    y = np.asarray(y, dtype=float)
+    elastic = params.stiffness_coefficient * np.maximum(y, 0.0) ** (params.m2 + 1) / (params.m2 + 1)
+    return elastic - params.mass * params.g * y

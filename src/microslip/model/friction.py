@@ -1,0 +1,43 @@
+"""Tangential laws: the Coulomb friction law (2.2) and the constant drive force of Sec. 4."""
+
+from __future__ import annotations
+
+import numpy as np
+from numba import njit
+
+from microslip.model.coefficients import FORCE, MASS, MU
+from microslip.model.contact import reaction
+
+__all__ = ["drive_force", "friction_limit", "slip_acceleration"]
+
+
+@njit(cache=True, inline="always")
+def drive_force(t: float, c: np.ndarray) -> float:
+    """Tangential drive F(t) [N]; here the paper's constant force (Sec. 4)."""
+    return c[FORCE]
+
+
+@njit(cache=True, inline="always")
+def friction_limit(y: float, ydot: float, t: float, c: np.ndarray) -> float:
+    """Largest friction force the contact can transmit, μ|R| [N], eq. (2.2)."""
+    return c[MU] * reaction(y, ydot, c)
+
+
+@njit(cache=True, inline="always")
+def slip_acceleration(y: float, ydot: float, t: float, direction: float, c: np.ndarray) -> float:
+    """ẍ [m/s^2] while sliding in ``direction`` = sgn ẋ (±1), eqs. (2.2) and (2.5).
+
+    m ẍ = F + F_t with F_t = -μ|R| sgn ẋ. ``direction`` = 0 means stick: ẍ = 0.
+    """
+    if direction == 0.0:
+        return 0.0
+    return (drive_force(t, c) - direction * friction_limit(y, ydot, t, c)) / c[MASS]
+
+
+def friction_force(direction: np.ndarray, limit: np.ndarray, drive: np.ndarray) -> np.ndarray:
+    """Friction force F_t [N] acting on the slider, signed as in (2.5): m ẍ = F + F_t.
+
+    Sliding: F_t = -μ|R| sgn ẋ. Stick: F_t = -F (static equilibrium, the paper's F_tr).
+    """
+    direction = np.asarray(direction, dtype=float)
+    return np.where(direction != 0.0, -direction * limit, -np.asarray(drive, dtype=float))

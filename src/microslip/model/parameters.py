@@ -1,0 +1,186 @@
+"""Physical parameters of the slider–slideway system (Grudziński & Kostek 2005, Sec. 2–3).
+
+All quantities are SI. The defaults are the paper's data (Sec. 3).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import asdict, dataclass, field, fields, replace
+from typing import Any
+
+__all__ = ["Parameters", "PARAMETER_UNITS"]
+
+
+def _spec(unit: str, description: str, positive: bool = True) -> dict[str, Any]:
+    return {"unit": unit, "description": description, "positive": positive}
+
+
+@dataclass(frozen=True, slots=True)
+class Parameters:
+    """Constants of the model, eqs. (2.1)–(2.5).
+
+    Attributes
+    ----------
+    mass : float
+        Slider mass m [kg].
+    g : float
+        Gravitational acceleration g [m/s^2].
+    area : float
+        Nominal contact area S [m^2].
+    c_n : float
+        Interface stiffness constant c_n of eq. (2.3) [N/m^(2+m2)]; for m2 = 2 this is N/m^4.
+    m2 : float
+        Interface exponent m2 = 1/m1 of eq. (2.3) [-].
+    mu : float
+        Coulomb friction coefficient μ of eq. (2.2) [-].
+    """
+
+    mass: float = field(default=1.0, metadata=_spec("kg", "slider mass m"))
+    g: float = field(default=9.81, metadata=_spec("m s-2", "gravitational acceleration g"))
+    area: float = field(default=42.735e-4, metadata=_spec("m2", "nominal contact area S"))
+    c_n: float = field(
+        default=4.52e16, metadata=_spec("N m-(2+m2)", "interface stiffness constant c_n")
+    )
+    m2: float = field(default=2.0, metadata=_spec("1", "interface exponent m2 = 1/m1"))
+    mu: float = field(
+        default=0.1, metadata=_spec("1", "Coulomb friction coefficient mu", positive=False)
+    )
+
+    def __post_init__(self) -> None:
+        for f in fields(self):
+            value = getattr(self, f.name)
+            if isinstance(value, bool) or not isinstance(value, (int, float)):
+                raise ValueError(f"{f.name} must be a real number, got {value!r}")
+            value = float(value)
+            if not math.isfinite(value):
+                raise ValueError(f"{f.name} must be finite, got {value!r}")
+            if f.metadata["positive"] and value <= 0.0:
+                raise ValueError(f"{f.name} must be > 0 [{f.metadata['unit']}], got {value!r}")
+            if not f.metadata["positive"] and value < 0.0:
+                raise ValueError(f"{f.name} must be >= 0 [{f.metadata['unit']}], got {value!r}")
+            object.__setattr__(self, f.name, value)
+        if self.m2 > 50.0:
+            raise ValueError(f"m2 must be <= 50 (interface exponent), got {self.m2!r}")
+
+    # -- construction -------------------------------------------------------------------
+    @classmethod
+    def from_interface(cls, *, e_n: float, m1: float, **others: float) -> Parameters:
+        """Build parameters from the interface law (2.1), δ = e_n p^m1.
+
+        Parameters
+        ----------
+        e_n : float
+            Interface compliance constant [m Pa^-m1].
+        m1 : float
+            Interface exponent of (2.1) [-].
+        **others
+            Any other field (mass [kg], g [m/s^2], area [m^2], mu [-]).
+
+        Uses m2 = 1/m1 and c_n = e_n^(-1/m1), Sec. 2.
+        """
+        for name, value in (("e_n", e_n), ("m1", m1)):
+            if isinstance(value, bool) or not isinstance(value, (int, float)):
+                raise ValueError(f"{name} must be a real number, got {value!r}")
+            if not math.isfinite(value) or value <= 0.0:
+                raise ValueError(f"{name} must be finite and > 0, got {value!r}")
+        for name in ("c_n", "m2"):
+            if name in others:
+                raise ValueError(f"{name} is derived from e_n and m1; do not pass it too")
+        return cls(c_n=float(e_n) ** (-1.0 / m1), m2=1.0 / m1, **others)
+
+    def replace(self, **changes: float) -> Parameters:
+        """A copy with some fields changed (validated like the constructor)."""
+        unknown = set(changes) - set(self.field_names())
+        if unknown:
+            raise ValueError(
+                f"unknown parameter {sorted(unknown)[0]!r}; known: {', '.join(self.field_names())}"
+            )
+        return replace(self, **changes)
+
+    @classmethod
+    def field_names(cls) -> tuple[str, ...]:
+        return tuple(f.name for f in fields(cls))
+
+    @classmethod
+    def field_unit(cls, name: str) -> str:
+        return {f.name: f.metadata["unit"] for f in fields(cls)}[name]
+
+    def to_dict(self) -> dict[str, float]:
+        return asdict(self)
+
+    # -- derived quantities -------------------------------------------------------------
+    @property
+    def stiffness_coefficient(self) -> float:
+        """S c_n, the coefficient of the reaction |R| = S c_n y^m2 [N/m^m2], eq. (2.3)."""
+        return self.area * self.c_n
+
+    @property
+    def static_deflection(self) -> float:
+        """Static deflection y0 = δ0 = (m g / (S c_n))^(1/m2) [m] at the working point C."""
+        return (self.mass * self.g / self.stiffness_coefficient) ** (1.0 / self.m2)
+
+    @property
+    def contact_stiffness(self) -> float:
+        """Tangent contact stiffness K_n = m2 S c_n y0^(m2-1) = m2 m g / y0 [N/m] at C.
+
+        For m2 = 2 this is the paper's K_n = 2 sqrt(m g S c_n) (Sec. 3).
+        """
+        return self.m2 * self.mass * self.g / self.static_deflection
+
+    @property
+    def natural_angular_frequency(self) -> float:
+        """ω0 = sqrt(K_n / m) [rad/s], small-amplitude normal vibration."""
+        return math.sqrt(self.contact_stiffness / self.mass)
+
+    @property
+    def natural_frequency(self) -> float:
+        """f0 = (1/2π) sqrt(K_n / m) [Hz] (paper: 1485 Hz)."""
+        return self.natural_angular_frequency / (2.0 * math.pi)
+
+    @property
+    def natural_period(self) -> float:
+        """T0 = 1/f0 [s]."""
+        return 1.0 / self.natural_frequency
+
+    @property
+    def time_scale(self) -> float:
+        """1/ω with ω = sqrt(g / y0) [s]: the time unit of the natural scales (REFERENCE fact 7)."""
+        return math.sqrt(self.static_deflection / self.g)
+
+    @property
+    def static_friction_force(self) -> float:
+        """F_t0 = μ m g [N], eq. (4.1): the static friction force without vibration."""
+        return self.mu * self.mass * self.g
+
+    def motion_threshold(self, amplitude: float) -> float:
+        """Smallest force that makes the slider move, μ S c_n max(y0 - A, 0)^m2 [N].
+
+        The slider moves iff F is strictly larger (eq. 4.2; REFERENCE fact 5).
+        ``amplitude`` is A = y0 - y_min [m].
+        """
+        top = max(self.static_deflection - float(amplitude), 0.0)
+        return self.mu * self.stiffness_coefficient * top**self.m2
+
+    def describe(self) -> dict[str, dict[str, Any]]:
+        """Fields and derived quantities with units, for ``microslip info``."""
+        out: dict[str, dict[str, Any]] = {}
+        for f in fields(self):
+            out[f.name] = {
+                "value": getattr(self, f.name),
+                "unit": f.metadata["unit"],
+                "description": f.metadata["description"],
+            }
+        derived = [
+            ("static_deflection", "m", "static deflection y0 at the working point C"),
+            ("contact_stiffness", "N m-1", "contact stiffness K_n at C"),
+            ("natural_frequency", "Hz", "small-amplitude normal frequency f0"),
+            ("natural_period", "s", "normal period T0 = 1/f0"),
+            ("static_friction_force", "N", "nominal static friction force F_t0 = mu m g"),
+        ]
+        for name, unit, description in derived:
+            out[name] = {"value": getattr(self, name), "unit": unit, "description": description}
+        return out
+
+
+PARAMETER_UNITS = {f.name: f.metadata["unit"] for f in fields(Parameters)}
