@@ -1,0 +1,1 @@
+"""Analysis: free normal vibration and the steady stick–slip cycle."""
