@@ -15,6 +15,7 @@ from microslip.analysis.steady_state import StickSlipCycle, mean_velocity, stick
 from microslip.model.parameters import Parameters
 from microslip.results import SimulationResult
 from microslip.simulation import simulate
+from microslip.sweeps import sweep, velocity_map
 
 __version__ = "0.1.0"
 
@@ -29,5 +30,7 @@ __all__ = [
     "normal_energy",
     "simulate",
     "stick_slip_cycle",
+    "sweep",
     "turning_points",
+    "velocity_map",
 ]

@@ -1,0 +1,1 @@
+"""Input and output: ranges, TOML configuration and atomic file writing."""

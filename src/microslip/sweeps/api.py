@@ -1,0 +1,94 @@
+"""``velocity_map`` and ``sweep``: the mean sliding velocity over grids of inputs (Fig. 7)."""
+
+from __future__ import annotations
+
+import warnings
+from collections.abc import Mapping
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import xarray as xr
+
+from microslip.model.parameters import Parameters
+from microslip.sweeps.runner import run_sweep
+from microslip.sweeps.spec import SweepSpec
+
+
+def sweep(
+    params: Parameters | None = None,
+    axes: Mapping[str, Any] | None = None,
+    *,
+    force: Any,
+    amplitude: Any,
+    method: str = "steady",
+    duration: float = 0.05,
+    dt: float | None = None,
+    scheduler: str | None = None,
+    workers: int | None = None,
+    store: str | Path | None = None,
+    progress: bool = False,
+    amplitude_chunk: int | None = None,
+) -> xr.DataArray:
+    """Mean sliding velocity [m/s] over any Parameters fields, force and amplitude.
+
+    Parameters
+    ----------
+    params : Parameters, optional
+        Values of the fields that are not swept (paper's data by default).
+    axes : mapping of field name -> values, optional
+        Parameters fields to sweep (e.g. ``{"mu": [...], "m2": [...]}``), in SI units;
+        each becomes a dimension, in this order.
+    force, amplitude : float or array
+        Tangential force F [N] and amplitude A = y0 - y_min [m]; always the last two
+        dimensions ("force", "amplitude").
+    method : {"steady", "time"}
+        "steady": exact long-time mean (REFERENCE fact 6; 0 where the slider never
+        moves, inf where F > μ m g). "time": batched RK4 with located switching for
+        ``duration`` [s] from rest at the top, mean = x(duration)/duration.
+    dt : float, optional
+        RK4 step for "time" [s] (default T0/200).
+    scheduler : str, optional
+        Address of a running Dask scheduler (``tcp://host:port``).
+    workers : int, optional
+        Start a local Dask cluster of this many worker processes.
+    store : path, optional
+        Resumable Zarr working store; chunks already there are not recomputed.
+    progress : bool
+        Progress bar with ETA on standard error.
+
+    Returns
+    -------
+    xarray.DataArray
+        ``mean_velocity`` with dims (*axes, "force", "amplitude") and ``units`` attrs.
+    """
+    if amplitude_chunk is None and store is None and scheduler is None and workers is None:
+        amplitude_chunk = np.size(amplitude)  # in memory, one chunk per parameter set is fastest
+    spec = SweepSpec.build(
+        params, axes, force, amplitude, method=method, duration=duration, dt=dt,
+        amplitude_chunk=amplitude_chunk,
+    )  # fmt: skip
+    ds = run_sweep(spec, store=store, scheduler=scheduler, workers=workers, progress=progress)
+    velocity = ds["mean_velocity"]
+    if np.isinf(velocity.values).any():
+        warnings.warn(
+            "some points have F > mu m g: no steady state, mean velocity set to inf",
+            RuntimeWarning,
+            stacklevel=2,
+        )
+    return velocity
+
+
+def velocity_map(
+    params: Parameters | None = None,
+    *,
+    forces: Any,
+    amplitudes: Any,
+    **options: Any,
+) -> xr.DataArray:
+    """Mean sliding velocity v(F, A) [m/s] on a grid: the map of Fig. 7.
+
+    ``forces`` [N] and ``amplitudes`` [m] are 1-D arrays; the result has dims
+    ("force", "amplitude"). Other options as for :func:`sweep`.
+    """
+    return sweep(params, None, force=forces, amplitude=amplitudes, **options)

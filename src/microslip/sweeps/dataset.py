@@ -1,0 +1,58 @@
+"""The xarray form of a sweep result, with units on every variable and coordinate."""
+
+from __future__ import annotations
+
+import json
+
+import numpy as np
+import xarray as xr
+
+import microslip
+from microslip.model.parameters import Parameters
+from microslip.sweeps.spec import SweepSpec
+
+
+def sweep_dataset(spec: SweepSpec, values: np.ndarray) -> xr.Dataset:
+    """Dataset with ``mean_velocity`` [m/s] and the no-sliding boundary ``motion_threshold`` [N]."""
+    coords = {
+        name: (name, np.asarray(vals), {"units": Parameters.field_unit(name), "long_name": name})
+        for name, vals in spec.param_axes
+    }
+    coords["force"] = ("force", np.asarray(spec.forces), {"units": "N", "long_name": "tangential force F"})
+    coords["amplitude"] = (
+        "amplitude",
+        np.asarray(spec.amplitudes),
+        {"units": "m", "long_name": "normal vibration amplitude A = y0 - y_min"},
+    )
+    long_name = (
+        "long-time mean sliding velocity (exact steady state)"
+        if spec.method == "steady"
+        else f"mean sliding velocity x(T)/T over T = {spec.duration!r} s (RK4)"
+    )
+    velocity = xr.Variable(
+        spec.dims, values, {"units": "m s-1", "long_name": long_name}
+    )
+    threshold_dims = (*(name for name, _ in spec.param_axes), "amplitude")
+    threshold = np.empty([len(v) for _, v in spec.param_axes] + [len(spec.amplitudes)])
+    for index in np.ndindex(*threshold.shape[:-1]):
+        params = spec.params_at((*index, 0))
+        threshold[index] = [params.motion_threshold(a) for a in spec.amplitudes]
+    ds = xr.Dataset(
+        {
+            "mean_velocity": velocity,
+            "motion_threshold": (
+                threshold_dims,
+                threshold,
+                {"units": "N", "long_name": "no-sliding boundary mu S c_n max(y0 - A, 0)^m2"},
+            ),
+        },
+        coords=coords,
+        attrs={
+            "title": "microslip mean sliding velocity sweep",
+            "method": spec.method,
+            "sweep_definition": json.dumps(spec.definition(), sort_keys=True),
+            "microslip_version": microslip.__version__,
+            **{f"param_{k}": v for k, v in spec.base.to_dict().items()},
+        },
+    )
+    return ds
