@@ -34,6 +34,42 @@ class CliError(ValueError):
     """An input error to report in one line."""
 
 
+class _Parser(argparse.ArgumentParser):
+    """argparse with one-line errors (exit status 2, no usage dump)."""
+
+    def error(self, message: str):  # type: ignore[override]
+        self.exit(EXIT_USAGE, f"{self.prog}: error: {message} (see {self.prog} --help)\n")
+
+
+def _join_negative_numbers(argv: list[str]) -> list[str]:
+    """Turn ``--flag -1e-7`` into ``--flag=-1e-7``: argparse takes "-1e-7" for an option."""
+    joined: list[str] = []
+    i = 0
+    while i < len(argv):
+        token = argv[i]
+        if (
+            token.startswith("--")
+            and "=" not in token
+            and i + 1 < len(argv)
+            and argv[i + 1].startswith("-")
+            and _is_number(argv[i + 1])
+        ):
+            joined.append(f"{token}={argv[i + 1]}")
+            i += 2
+            continue
+        joined.append(token)
+        i += 1
+    return joined
+
+
+def _is_number(text: str) -> bool:
+    try:
+        float(text.split(",")[0].split(":")[0])
+    except ValueError:
+        return False
+    return True
+
+
 # -- shared options ------------------------------------------------------------------------
 def _add_model_options(parser: argparse.ArgumentParser) -> None:
     group = parser.add_argument_group("model parameters (SI; default: the paper's data)")
@@ -281,7 +317,7 @@ def cmd_sweep(args: argparse.Namespace) -> int:
 
 # -- parser ---------------------------------------------------------------------------------
 def build_parser() -> argparse.ArgumentParser:
-    parser = argparse.ArgumentParser(
+    parser = _Parser(
         prog="microslip",
         description="Sliding under dry friction driven by normal contact micro-vibrations "
         "(Grudzinski & Kostek 2005). SI units throughout.",
@@ -289,7 +325,9 @@ def build_parser() -> argparse.ArgumentParser:
     from microslip import __version__
 
     parser.add_argument("--version", action="version", version=f"microslip {__version__}")
-    sub = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
+    sub = parser.add_subparsers(
+        dest="command", required=True, metavar="COMMAND", parser_class=_Parser
+    )
 
     info = sub.add_parser("info", help="parameters and derived quantities (y0, K_n, f0, ...)")
     info.add_argument("--json", action="store_true", help="print JSON")
@@ -348,7 +386,7 @@ def build_parser() -> argparse.ArgumentParser:
 
 def main(argv: list[str] | None = None) -> int:
     parser = build_parser()
-    args = parser.parse_args(argv)
+    args = parser.parse_args(_join_negative_numbers(sys.argv[1:] if argv is None else argv))
     try:
         return args.handler(args)
     except (ValueError, ConnectionError) as error:
