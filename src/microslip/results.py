@@ -49,7 +49,7 @@ class SimulationResult:
     settings: dict[str, Any] = field(default_factory=dict)
 
     @property
-    def R(self) -> np.ndarray:  # noqa: N802 - the paper's symbol
+    def R(self) -> np.ndarray:
         return reaction_array(self.params, self.y)
 
     @property
@@ -57,7 +57,7 @@ class SimulationResult:
         return self.params.mu * self.R
 
     @property
-    def Ft(self) -> np.ndarray:  # noqa: N802 - the paper's symbol
+    def Ft(self) -> np.ndarray:
         return np.where(self.direction != 0.0, -self.direction * self.friction_limit, -self.force)
 
     @property
@@ -72,7 +72,9 @@ class SimulationResult:
     @property
     def events(self) -> list[tuple[float, str]]:
         """Switching instants as (time [s], kind) pairs."""
-        return [(float(t), EVENT_NAMES[k]) for t, k in zip(self.event_t, self.event_kind)]
+        return [
+            (float(t), EVENT_NAMES[k]) for t, k in zip(self.event_t, self.event_kind, strict=True)
+        ]
 
     def to_xarray(self):
         """An ``xarray.Dataset`` on dimension ``time``; every variable carries ``units``."""

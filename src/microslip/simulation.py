@@ -105,9 +105,7 @@ def simulate(
     else:
         values = check.real_array("initial_state", initial_state)
         if values.size != 4:
-            raise ValueError(
-                f"initial_state must be (y, ydot, x, xdot), got {values.size} values"
-            )
+            raise ValueError(f"initial_state must be (y, ydot, x, xdot), got {values.size} values")
         state0 = tuple(float(v) for v in values)
 
     period = params.natural_period

@@ -51,7 +51,9 @@ def test_store_of_another_sweep_is_refused(tmp_path):
     store = tmp_path / "work.zarr"
     run_sweep(spec(), store=store)
     with pytest.raises(StoreMismatchError, match="amplitudes"):
-        run_sweep(SweepSpec.build(None, None, FORCES, AMPLITUDES[:-1], amplitude_chunk=3), store=store)
+        run_sweep(
+            SweepSpec.build(None, None, FORCES, AMPLITUDES[:-1], amplitude_chunk=3), store=store
+        )
     junk = tmp_path / "junk.zarr"
     junk.mkdir()
     (junk / "file").write_text("x")

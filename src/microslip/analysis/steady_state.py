@@ -94,9 +94,7 @@ def steady_cycle(force, ys, yds, summary, c, out):
     y_stop, _yd = orbit.orbit_state(t, ys, yds, summary, c)
     slip_time = t + t_d
     distance = (
-        0.5 * accel * slip_time * slip_time
-        + mu * (y_stop - y_release)
-        + mu * speed_d * slip_time
+        0.5 * accel * slip_time * slip_time + mu * (y_stop - y_release) + mu * speed_d * slip_time
     )
     out[CY_MEAN] = distance / period
     out[CY_SLIP_TIME] = slip_time

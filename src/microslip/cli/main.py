@@ -148,7 +148,9 @@ def cmd_simulate(args: argparse.Namespace) -> int:
         try:
             initial_state = [float(v) for v in initial_state.split(",")]
         except ValueError:
-            raise CliError(f"--initial-state: expected y,ydot,x,xdot, got {initial_state!r}") from None
+            raise CliError(
+                f"--initial-state: expected y,ydot,x,xdot, got {initial_state!r}"
+            ) from None
     if "amplitude" not in opts and initial_state is None:
         raise CliError("give --amplitude or --initial-state")
     t_eval = None
@@ -338,12 +340,16 @@ def build_parser() -> argparse.ArgumentParser:
     sim.add_argument("--force", type=_finite("--force"), help="tangential force F [N] (>= 0)")
     start = sim.add_mutually_exclusive_group()
     start.add_argument("--amplitude", type=_finite("--amplitude"), help="A = y0 - y_min [m]")
-    start.add_argument("--initial-state", dest="initial_state", help="y,ydot,x,xdot [m, m/s, m, m/s]")
+    start.add_argument(
+        "--initial-state", dest="initial_state", help="y,ydot,x,xdot [m, m/s, m, m/s]"
+    )
     sim.add_argument("--duration", type=_finite("--duration"), help="simulated time [s]")
     sim.add_argument("--method", choices=("event", "rk4"), help="integrator (default: event)")
     sim.add_argument("--dt", type=_finite("--dt"), help="RK4 step [s] (default T0/200)")
     sim.add_argument("--rtol", type=_finite("--rtol"), help="event method relative tolerance")
-    sim.add_argument("--atol", type=_finite("--atol"), help="event method absolute tolerance (natural units)")
+    sim.add_argument(
+        "--atol", type=_finite("--atol"), help="event method absolute tolerance (natural units)"
+    )
     sim.add_argument("--samples", type=int, help="output N evenly spaced samples")
     sim.add_argument("--save-every", dest="save_every", type=int, help="keep every n-th step")
     sim.add_argument("--out", help="write the trajectory (.nc or .csv)")

@@ -13,7 +13,9 @@ from microslip.integrators.steppers import DP54, RK4, advance
 from microslip.integrators.switching import apply_switch, first_switch
 
 # Slots of the carry vector that holds the loop state between calls.
-C_T, C_Y, C_YD, C_X, C_XD, C_DIR, C_H, C_K, C_BOUNDARY, C_TEVAL, C_T0, C_STEPS, C_REJECTS = range(13)
+C_T, C_Y, C_YD, C_X, C_XD, C_DIR, C_H, C_K, C_BOUNDARY, C_TEVAL, C_T0, C_STEPS, C_REJECTS = range(
+    13
+)
 CARRY_SIZE = 13
 
 # Return status.

@@ -9,7 +9,6 @@ from __future__ import annotations
 
 import math
 
-
 from numba import njit
 
 from microslip.model.contact import normal_acceleration
@@ -96,9 +95,15 @@ def dp54_step(s, t, h, direction, c, rtol, atol):
     """
     k1 = _f(s, t, direction, c)
     k2 = _f(_combine(s, h, k1, k1, k1, k1, k1, _A21, 0.0, 0.0, 0.0, 0.0), t + _C2 * h, direction, c)
-    k3 = _f(_combine(s, h, k1, k2, k1, k1, k1, _A31, _A32, 0.0, 0.0, 0.0), t + _C3 * h, direction, c)
-    k4 = _f(_combine(s, h, k1, k2, k3, k1, k1, _A41, _A42, _A43, 0.0, 0.0), t + _C4 * h, direction, c)
-    k5 = _f(_combine(s, h, k1, k2, k3, k4, k1, _A51, _A52, _A53, _A54, 0.0), t + _C5 * h, direction, c)
+    k3 = _f(
+        _combine(s, h, k1, k2, k1, k1, k1, _A31, _A32, 0.0, 0.0, 0.0), t + _C3 * h, direction, c
+    )
+    k4 = _f(
+        _combine(s, h, k1, k2, k3, k1, k1, _A41, _A42, _A43, 0.0, 0.0), t + _C4 * h, direction, c
+    )
+    k5 = _f(
+        _combine(s, h, k1, k2, k3, k4, k1, _A51, _A52, _A53, _A54, 0.0), t + _C5 * h, direction, c
+    )
     k6 = _f(_combine(s, h, k1, k2, k3, k4, k5, _A61, _A62, _A63, _A64, _A65), t + h, direction, c)
     new = _combine(s, h, k1, k3, k4, k5, k6, _B1, _B3, _B4, _B5, _B6)
     k7 = _f(new, t + h, direction, c)
@@ -118,5 +123,3 @@ def advance(method, s, t, h, direction, c, rtol, atol):
     if method == RK4:
         return rk4_step(s, t, h, direction, c), 0.0
     return dp54_step(s, t, h, direction, c, rtol, atol)
-
-

@@ -142,9 +142,13 @@ def _first_stop(method, s0, s1, t, h, direction, c, rtol, atol):
         sx, _err = advance(method, s0, t, theta_x * h, direction, c, rtol, atol)
         vx = switching_value(SLIDING_SPEED, sx, t + theta_x * h, direction, c)
         if v0 > 0.0 and vx <= 0.0:
-            return locate(SLIDING_SPEED, method, s0, t, h, direction, c, rtol, atol, 0.0, theta_x, v0, vx)
+            return locate(
+                SLIDING_SPEED, method, s0, t, h, direction, c, rtol, atol, 0.0, theta_x, v0, vx
+            )
         if vx > 0.0 and v1 <= 0.0:
-            return locate(SLIDING_SPEED, method, s0, t, h, direction, c, rtol, atol, theta_x, 1.0, vx, v1)
+            return locate(
+                SLIDING_SPEED, method, s0, t, h, direction, c, rtol, atol, theta_x, 1.0, vx, v1
+            )
         return 2.0
     if v0 > 0.0 and v1 <= 0.0:
         return locate(SLIDING_SPEED, method, s0, t, h, direction, c, rtol, atol, 0.0, 1.0, v0, v1)

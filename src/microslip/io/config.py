@@ -60,7 +60,8 @@ def command_options(data: dict[str, Any], command: str, allowed: set[str], sourc
     for key in table:
         if key.replace("-", "_") not in allowed:
             raise ValueError(
-                f"{source}: unknown option {key!r} in [{command}]; known: {', '.join(sorted(allowed))}"
+                f"{source}: unknown option {key!r} in [{command}]; "
+                f"known: {', '.join(sorted(allowed))}"
             )
     unknown_tables = set(data) - {"parameters", command}
     for name in unknown_tables:

@@ -9,7 +9,7 @@ import math
 from dataclasses import asdict, dataclass, field, fields, replace
 from typing import Any
 
-__all__ = ["Parameters", "PARAMETER_UNITS"]
+__all__ = ["PARAMETER_UNITS", "Parameters"]
 
 
 def _spec(unit: str, description: str, positive: bool = True) -> dict[str, Any]:

@@ -18,7 +18,11 @@ def sweep_dataset(spec: SweepSpec, values: np.ndarray) -> xr.Dataset:
         name: (name, np.asarray(vals), {"units": Parameters.field_unit(name), "long_name": name})
         for name, vals in spec.param_axes
     }
-    coords["force"] = ("force", np.asarray(spec.forces), {"units": "N", "long_name": "tangential force F"})
+    coords["force"] = (
+        "force",
+        np.asarray(spec.forces),
+        {"units": "N", "long_name": "tangential force F"},
+    )
     coords["amplitude"] = (
         "amplitude",
         np.asarray(spec.amplitudes),
@@ -29,9 +33,7 @@ def sweep_dataset(spec: SweepSpec, values: np.ndarray) -> xr.Dataset:
         if spec.method == "steady"
         else f"mean sliding velocity x(T)/T over T = {spec.duration!r} s (RK4)"
     )
-    velocity = xr.Variable(
-        spec.dims, values, {"units": "m s-1", "long_name": long_name}
-    )
+    velocity = xr.Variable(spec.dims, values, {"units": "m s-1", "long_name": long_name})
     threshold_dims = (*(name for name, _ in spec.param_axes), "amplitude")
     threshold = np.empty([len(v) for _, v in spec.param_axes] + [len(spec.amplitudes)])
     for index in np.ndindex(*threshold.shape[:-1]):

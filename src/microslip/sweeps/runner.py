@@ -90,7 +90,7 @@ def run_sweep(
                 from distributed import as_completed
 
                 futures = client.map(compute_chunk, [spec] * len(todo), todo, pure=False)
-                key_of = {future.key: key for future, key in zip(futures, todo)}
+                key_of = {future.key: key for future, key in zip(futures, todo, strict=True)}
                 for future in as_completed(futures):
                     save(key_of[future.key], future.result())
                     bar.update()

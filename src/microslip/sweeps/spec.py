@@ -72,9 +72,8 @@ class SweepSpec:
             if name in ("force", "amplitude"):
                 raise ValueError(f"{name!r} is a sweep axis of its own; pass it as {name}=...")
             if name not in Parameters.field_names():
-                raise ValueError(
-                    f"unknown parameter {name!r} in sweep; known: {', '.join(Parameters.field_names())}"
-                )
+                known = ", ".join(Parameters.field_names())
+                raise ValueError(f"unknown parameter {name!r} in sweep; known: {known}")
             array = check.real_array(name, values)
             for value in array:  # each value must make valid Parameters
                 params.replace(**{name: float(value)})
@@ -133,7 +132,9 @@ class SweepSpec:
         return (*key[:-1], slice(None), self.amplitude_slice(key))
 
     def params_at(self, key: ChunkKey) -> Parameters:
-        changes = {name: values[i] for (name, values), i in zip(self.param_axes, key[:-1])}
+        changes = {
+            name: values[i] for (name, values), i in zip(self.param_axes, key[:-1], strict=True)
+        }
         return self.base.replace(**changes) if changes else self.base
 
     # -- identity -----------------------------------------------------------------------

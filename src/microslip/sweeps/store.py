@@ -54,7 +54,7 @@ class SweepStore:
         try:
             group = zarr.open_group(str(self.path), mode="r+")
             stored = json.loads(group.attrs["sweep_definition"])
-            group[RESULT], group[DONE]  # noqa: B018 - both arrays must exist
+            group[RESULT], group[DONE]
         except Exception as error:  # any unreadable or foreign store
             raise StoreMismatchError(
                 f"{str(self.path)!r} exists but is not a microslip sweep store ({error}); "
