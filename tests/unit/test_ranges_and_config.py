@@ -1,0 +1,59 @@
+"""Range strings and TOML configuration: every malformed input is a ValueError naming it."""
+
+import numpy as np
+import pytest
+
+from microslip.io.config import command_options, load_config, parameters_from_config
+from microslip.io.ranges import parse_values
+
+
+def test_inclusive_linspace_lists_and_single_values():
+    np.testing.assert_array_equal(parse_values("F", "0.1:0.9:5"), np.linspace(0.1, 0.9, 5))
+    np.testing.assert_array_equal(parse_values("F", "0.1,0.5"), [0.1, 0.5])
+    np.testing.assert_array_equal(parse_values("F", "0.5"), [0.5])
+    np.testing.assert_array_equal(parse_values("F", "0.5:0.5:1"), [0.5])
+
+
+@pytest.mark.parametrize(
+    ("text", "message"),
+    [
+        ("", "empty"),
+        ("0.9:0.1:5", "reversed"),
+        ("0.1:0.9:0", "count must be >= 1"),
+        ("0.1:0.9:-3", "count must be >= 1"),
+        ("0.1:0.9:2.5", "count must be an integer"),
+        ("0.1:0.9", "start:stop:count"),
+        ("0.1:0.1:4", "empty range"),
+        ("0.1:0.9:1", "count 1 needs start == stop"),
+        ("nan", "finite"),
+        ("0:inf:3", "finite"),
+        ("a,b", "not a number"),
+        ("0.1,0.1", "repeated"),
+    ],
+)
+def test_bad_ranges(text, message):
+    with pytest.raises(ValueError, match=message) as error:
+        parse_values("--force", text)
+    assert "--force" in str(error.value)
+
+
+def test_config_tables(tmp_path):
+    path = tmp_path / "c.toml"
+    path.write_text("[parameters]\nmu = 0.2\n[simulate]\nforce = 0.5\nsave-every = 3\n")
+    data = load_config(path)
+    assert parameters_from_config(data, "c.toml") == {"mu": 0.2}
+    options = command_options(data, "simulate", {"force", "save_every"}, "c.toml")
+    assert options == {"force": 0.5, "save_every": 3}
+    with pytest.raises(ValueError, match="unknown option 'force'"):
+        command_options(data, "simulate", {"duration"}, "c.toml")
+
+
+def test_config_errors_name_the_file(tmp_path):
+    with pytest.raises(ValueError, match=r"missing\.toml"):
+        load_config(tmp_path / "missing.toml")
+    bad = tmp_path / "bad.toml"
+    bad.write_text("mu = = 3")
+    with pytest.raises(ValueError, match=r"bad\.toml"):
+        load_config(bad)
+    with pytest.raises(ValueError, match="unknown parameter 'stiffness'"):
+        parameters_from_config({"parameters": {"stiffness": 1.0}}, "x.toml")
