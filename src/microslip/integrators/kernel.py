@@ -102,14 +102,14 @@ def integrate_chunk(
             t_piece = target
             s_piece = s1
         if use_t_eval:
-            while i_eval < t_eval.shape[0] and t_eval[i_eval] <= t_piece:
+            # A time equal to the piece end is written by the next piece (or the final
+            # flush), from the state after any switch there.
+            while i_eval < t_eval.shape[0] and t_eval[i_eval] < t_piece:
                 if n_out >= cap - 1:
                     status = OUTPUT_FULL
                     break
                 te = t_eval[i_eval]
-                if te == t_piece:
-                    se = s_piece
-                elif te <= t:
+                if te <= t:
                     se = s
                 else:
                     se, _err = advance(method, s, t, te - t, direction, c, rtol, atol)
@@ -145,6 +145,13 @@ def integrate_chunk(
         boundary += 1
         if not use_t_eval and (boundary % save_every == 0 or t >= t_end):
             n_out = _write(out_t, out_s, out_dir, n_out, t, s, direction)
+    if status == DONE and use_t_eval:
+        while i_eval < t_eval.shape[0] and t_eval[i_eval] <= t:
+            if n_out >= cap:
+                status = OUTPUT_FULL
+                break
+            n_out = _write(out_t, out_s, out_dir, n_out, t_eval[i_eval], s, direction)
+            i_eval += 1
     carry[C_T] = t
     carry[C_Y], carry[C_YD], carry[C_X], carry[C_XD] = s
     carry[C_DIR] = direction

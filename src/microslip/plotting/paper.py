@@ -22,15 +22,15 @@ Layout (panel letters as in the paper's captions and text):
   (d) |R|, (e) friction against F (columns 1–4), (f) x, (g) ẋ, (h) ẍ (columns 1′–4′).
 - Fig. 5: the two largest amplitudes of Fig. 4: (a), (b) F and the friction force
   against t (thin: potential static friction μ|R| while sticking); (c) friction against
-  ẋ while sliding; (d), (e) ẋ(t); (f) the x–ẋ phase plane.
+  ẋ while sliding; (d), (e) ẋ(t); (f) the x–ẋ phase plane while sliding, x counted
+  from each release so that the steady cycles fall on one limit-cycle arch.
 - Fig. 6: A = 1.3 y0 (momentary loss of contact), F = 0.5 N: (a) y, (b) ẏ, (c) phase
   portrait, (d) |R|, (e) friction against F, (f) x, (g) ẋ, (h) ẍ.
 """
 
 from __future__ import annotations
 
-import os
-import tempfile
+import numbers
 from collections.abc import Callable, Sequence
 from pathlib import Path
 
@@ -38,17 +38,18 @@ import matplotlib
 
 matplotlib.use("Agg")  # no display; figures are built with matplotlib.figure.Figure
 
-import numpy as np  # noqa: E402
-import xarray as xr  # noqa: E402
-from matplotlib.axes import Axes  # noqa: E402
-from matplotlib.figure import Figure  # noqa: E402
+import numpy as np
+import xarray as xr
+from matplotlib.axes import Axes
+from matplotlib.figure import Figure
 
-from microslip.analysis.free_vibration import free_period, turning_points  # noqa: E402
-from microslip.analysis.steady_state import stick_slip_cycle  # noqa: E402
-from microslip.model.contact import reaction_array  # noqa: E402
-from microslip.model.parameters import Parameters  # noqa: E402
-from microslip.results import FLIGHT, SLIP, STATE_MEANINGS, STICK, SimulationResult  # noqa: E402
-from microslip.simulation import simulate  # noqa: E402
+from microslip.analysis.free_vibration import free_period, turning_points
+from microslip.analysis.steady_state import stick_slip_cycle
+from microslip.io.output import write_atomically, write_dataset
+from microslip.model.contact import reaction_array
+from microslip.model.parameters import Parameters
+from microslip.results import FLIGHT, SLIP, STATE_MEANINGS, STICK, SimulationResult
+from microslip.simulation import simulate
 
 __all__ = [
     "FIGURES",
@@ -206,19 +207,6 @@ def _panel(ax: Axes, letter: str, text: str = "") -> None:
     ax.set_title(f"({letter}) {text}".rstrip(), loc="left", fontsize="medium")
 
 
-def _corner_letter(ax: Axes, text: str) -> None:
-    ax.text(
-        0.015,
-        0.96,
-        text,
-        transform=ax.transAxes,
-        va="top",
-        ha="left",
-        fontsize="small",
-        bbox={"boxstyle": "round,pad=0.15", "fc": "white", "ec": "none", "alpha": 0.8},
-    )
-
-
 def _shade(ax: Axes, t_ms: np.ndarray, mask: np.ndarray, style: dict, label=None) -> None:
     if np.any(mask):
         ax.fill_between(
@@ -352,7 +340,7 @@ def figure2(params: Parameters | None = None) -> tuple[Figure, xr.Dataset]:
     ax_a.legend(fontsize="small", loc="upper left")
     _panel(ax_a, "a", "load–deflection characteristic")
 
-    for k, (ratio, run) in enumerate(zip(ratios, runs)):
+    for k, (ratio, run) in enumerate(zip(ratios, runs, strict=True)):
         label = f"{_amplitude_label(ratio)}, $f$ = {1 / periods[k]:.0f} Hz"
         ax_b.plot(t_ms, run.y * UM, color=COLORS[k], label=label)
         ax_c.plot(t_ms, run.ydot * MM_S, color=COLORS[k], label=label)
@@ -366,15 +354,16 @@ def figure2(params: Parameters | None = None) -> tuple[Figure, xr.Dataset]:
     ax_c.axhline(0.0, color="0.4", lw=0.6)
     ax_b.set_ylabel(Y_LABEL + " (penetration)")
     ax_c.set_ylabel(YDOT_LABEL)
-    ax_b.legend(fontsize="small", loc="upper right", ncols=2)
+    ax_b.set_ylim(-0.03 * y0 * UM, 2.25 * y0 * UM)
+    ax_b.legend(fontsize="small", loc="upper center", ncols=2)
     _panel(ax_b, "b", "free vibration $y(t)$")
     _panel(ax_c, "c", r"free vibration $\dot y(t)$")
-    ax_d.plot([y0 * UM], [0.0], "s", color="k", ms=6, label="C")
+    ax_d.plot([y0 * UM], [0.0], "s", color="k", ms=6)
+    ax_d.annotate("C", (y0 * UM, 0.0), xytext=(5, 5), textcoords="offset points")
     ax_d.axvline(0.0, color="0.4", lw=0.6)
     ax_d.axhline(0.0, color="0.4", lw=0.6)
     ax_d.set_xlabel(Y_LABEL)
     ax_d.set_ylabel(YDOT_LABEL)
-    ax_d.legend(fontsize="small", loc="upper left")
     _panel(ax_d, "d", "phase portraits")
     fig.suptitle(
         f"Fig. 2 — free normal contact micro-vibrations ($f_0$ = {params.natural_frequency:.0f} Hz)"
@@ -419,7 +408,8 @@ def figure3(params: Parameters | None = None) -> tuple[Figure, xr.Dataset]:
     ax_a.axhline(y0 * UM, color="k", ls="--", lw=0.8, label="$y_0$ (static equilibrium)")
     ax_a.axhline(0.0, color="tab:red", ls=":", lw=1.0, label="$y = 0$ (edge of contact)")
     ax_a.set_ylabel(Y_LABEL + " (penetration)")
-    ax_a.legend(fontsize="small", loc="upper right", ncols=3)
+    ax_a.set_ylim(-0.05 * y0 * UM, 2.2 * y0 * UM)
+    ax_a.legend(fontsize="small", loc="upper center", ncols=3)
     _panel(ax_a, "a", f"normal vibration, $A = y_0$ = {y0 * UM:.3f} µm")
 
     ax_b.plot(t_ms, r_abs, color="tab:blue", lw=1.6, label="normal reaction $|R|$")
@@ -431,8 +421,8 @@ def figure3(params: Parameters | None = None) -> tuple[Figure, xr.Dataset]:
     ax_b.set_ylabel("force [N]")
     ax_b.set_xlabel(T_LABEL)
     ax_b.set_xlim(0, t_ms[-1])
-    ax_b.set_ylim(-0.5, 3.35 * weight)
-    ax_b.legend(fontsize="small", loc="upper right", ncols=2)
+    ax_b.set_ylim(-0.5, 3.9 * weight)
+    ax_b.legend(fontsize="small", loc="upper center", ncols=4)
     _panel(
         ax_b,
         "b",
@@ -479,7 +469,7 @@ def figure4(
     axes = fig.subplots(8, 4, sharex=True)
     t_ms = t * MS
     rows = "abcdefgh"
-    for j, (ratio, run) in enumerate(zip(ratios, runs)):
+    for j, (ratio, run) in enumerate(zip(ratios, runs, strict=True)):
         col = axes[:, j]
         color = COLORS[j]
         stick = run.state == STICK
@@ -511,9 +501,13 @@ def figure4(
                 bbox={"boxstyle": "round,pad=0.2", "fc": "white", "ec": "0.7"},
             )  # fmt: skip
         for i, ax in enumerate(col):
-            _corner_letter(ax, f"({rows[i]}) {j + 1}{'′' if i >= 5 else ''}")
+            ax.set_title(
+                f"({rows[i]}) {j + 1}{'′' if i >= 5 else ''}", loc="left", fontsize="small", pad=3
+            )
         col[0].set_title(
-            f"{j + 1} / {j + 1}′: {_amplitude_label(ratio)} = {ratio * y0 * UM:.3f} µm",
+            f"(a) {j + 1}    {_amplitude_label(ratio)}"
+            + (f" = {ratio * y0 * UM:.3f} µm" if ratio > 0 else " (no vibration)"),
+            loc="left",
             fontsize="medium",
         )
         col[-1].set_xlabel(T_LABEL)
@@ -541,6 +535,24 @@ def figure4(
 # -- Fig. 5 ----------------------------------------------------------------------------
 
 
+def _slip_phases(run: SimulationResult) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Samples of the sliding phases, those of the first one, and x from each release [m].
+
+    Each phase includes its release sample (the sample at a switching instant holds the
+    state just before it). The first phase starts from rest at the highest point at
+    t = 0, not from a release, and is a transient.
+    """
+    stick = run.state == STICK
+    slide = ~stick
+    slide[:-1] |= ~stick[1:]
+    sticks = np.flatnonzero(stick)
+    first = slide & (np.arange(slide.size) < (sticks[0] if sticks.size else slide.size))
+    start = slide.copy()
+    start[1:] &= ~slide[:-1]
+    x_release = run.x[np.flatnonzero(start)][np.maximum(np.cumsum(start) - 1, 0)]
+    return slide, first, np.where(slide, run.x - x_release, np.nan)
+
+
 def figure5(
     params: Parameters | None = None, *, force: float = PAPER_FORCE, duration: float = 3e-3
 ) -> tuple[Figure, xr.Dataset]:
@@ -551,8 +563,15 @@ def figure5(
     amplitudes = [r * y0 for r in ratios]
     t, runs = _trajectories(params, force, amplitudes, duration, 6001)
     distance, velocity = _cycle_summary(params, force, amplitudes)
+    phases = [_slip_phases(run) for run in runs]
     variables = _motion_variables(params, force, runs)
     variables["amplitude_ratio"] = _var("amplitude", np.asarray(ratios), "1", "A / y0")
+    variables["x_from_release"] = _var(
+        ("amplitude", "time"),
+        np.stack([phase[2] for phase in phases]),
+        "m",
+        "x minus x at the release of the current slip phase (NaN while sticking), Fig. 5f",
+    )
     variables["slip_distance"] = _var(
         "amplitude", distance, "m", "steady slip distance per normal period (Delta x)"
     )
@@ -571,38 +590,30 @@ def figure5(
     )
 
     fig = _new_figure((15.0, 8.5))
-    axes = fig.subplots(2, 3)
-    (ax_a, ax_b, ax_c), (ax_d, ax_e, ax_f) = axes
+    (ax_a, ax_b, ax_c), (ax_d, ax_e, ax_f) = fig.subplots(2, 3)
     t_ms = t * MS
-    f_max = 0.0
-    for k, (ratio, run) in enumerate(zip(ratios, runs)):
+    for k, (ratio, run, (slide, first, x_rel)) in enumerate(zip(ratios, runs, phases, strict=True)):
         color = COLORS[k + 2]
         label = _amplitude_label(ratio)
-        stick = run.state == STICK
         ax_force, ax_vel = (ax_a, ax_d) if k == 0 else (ax_b, ax_e)
         _friction_panel(ax_force, t_ms, run, color, force)
         ax_vel.plot(t_ms, run.xdot * UM_S, color=color, label=rf"$\dot x(t)$, {label}")
         for ax in (ax_force, ax_vel):
-            _shade(ax, t_ms, stick, STICK_SHADE, label="stick ($t_s$)")
+            _shade(ax, t_ms, run.state == STICK, STICK_SHADE, label="stick ($t_s$)")
             ax.set_xlim(0, t_ms[-1])
             ax.set_xlabel(T_LABEL)
-        f_max = max(f_max, float(np.max(run.friction_limit)))
+        peak = float(np.max(run.xdot)) * UM_S
+        ax_force.set_ylim(0, 1.3 * max(float(np.max(ds["friction_limit"])), force))
+        ax_vel.set_ylim(-0.03 * peak, 1.3 * peak)
         ax_force.set_ylabel("$F$, $F_t$ [N]")
         ax_vel.set_ylabel(XDOT_LABEL)
         ax_force.legend(fontsize="small", loc="upper right")
         ax_vel.legend(fontsize="small", loc="upper right")
         _panel(ax_force, "ab"[k], f"$F$ and $F_t$ against $t$, {label}")
         _panel(ax_vel, "de"[k], rf"velocity $\dot x(t)$, {label}")
-
-        # Sliding phases only; the first one (from rest at the top) is a transient.
-        slide = _dilate(run.state != STICK) & (t > 0) | (t == 0) & (run.state != STICK)
-        first_stick = np.flatnonzero(stick)
-        cut = first_stick[0] if first_stick.size else t.size
-        transient = slide & (np.arange(t.size) <= cut)
-        steady = slide & (np.arange(t.size) >= cut)
         for mask, style, suffix in (
-            (steady, {"lw": 1.8}, "steady cycles"),
-            (transient, {"lw": 1.0, "ls": ":"}, "first slip (transient)"),
+            (slide & ~first, {"lw": 1.8}, "steady cycles"),
+            (first, {"lw": 1.0, "ls": ":"}, "first slip (transient)"),
         ):
             ax_c.plot(
                 _masked(run.xdot * UM_S, mask),
@@ -612,26 +623,24 @@ def figure5(
                 **style,
             )
             ax_f.plot(
-                _masked(run.x * NM, mask),
+                _masked(x_rel * NM, mask),
                 _masked(run.xdot * UM_S, mask),
                 color=color,
                 label=f"{label}, {suffix}",
                 **style,
             )
-    for ax in (ax_a, ax_b):
-        ax.set_ylim(0, 1.3 * f_max)
     ax_c.axhline(force, color="k", ls="--", lw=1.0, label=f"$F = {force:g}$ N")
     ax_c.set_xlabel(XDOT_LABEL)
     ax_c.set_ylabel(r"$|F_t| = \mu|R|$ [N]")
     ax_c.set_xlim(0, None)
     ax_c.legend(fontsize="small", loc="upper right")
     _panel(ax_c, "c", r"friction force against $\dot x$ (sliding phase)")
-    ax_f.axhline(0.0, color="0.4", lw=0.6)
-    ax_f.set_xlabel(X_LABEL)
+    ax_f.set_xlabel("$x - x_r$ [nm] (from the release $x_r$ of each slip)")
     ax_f.set_ylabel(XDOT_LABEL)
-    ax_f.set_ylim(0, None)
-    ax_f.legend(fontsize="small", loc="upper left")
-    _panel(ax_f, "f", r"phase plane $x$–$\dot x$ (sliding phase)")
+    ax_f.set_xlim(0, None)
+    ax_f.set_ylim(0, 1.35 * float(np.max(ds["xdot"])) * UM_S)
+    ax_f.legend(fontsize="small", loc="upper right")
+    _panel(ax_f, "f", r"phase plane $x$–$\dot x$ (sliding phase; limit cycle)")
     fig.suptitle(
         f"Fig. 5 — friction force and sliding velocity in stick–slip, $F$ = {force:g} N "
         "(grey: stick; thin line: potential static friction $\\mu|R|$)"
@@ -709,7 +718,8 @@ def figure6(
     ax_c.plot([y0 * UM], [0.0], "s", color="k", ms=5, label="C")
     ax_c.set_xlabel(Y_LABEL)
     ax_c.set_ylabel(YDOT_LABEL)
-    ax_c.legend(fontsize="small", loc="upper left")
+    ax_c.set_ylim(None, 1.6 * float(np.max(run.ydot)) * MM_S)
+    ax_c.legend(fontsize="small", loc="upper center", ncols=3)
     _panel(ax_c, "c", "phase portrait")
 
     ax_d.plot(t_ms, run.R, color=color, label="$|R|$")
@@ -735,9 +745,13 @@ def figure6(
         _shade(ax, t_ms, stick, STICK_SHADE, label="stick")
         ax.set_xlabel(T_LABEL)
     ax_a.set_xlim(0, t_ms[-1])
-    ax_a.legend(fontsize="small", loc="upper right", ncols=2)
-    ax_d.legend(fontsize="small", loc="upper right", ncols=4)
-    ax_e.legend(fontsize="small", loc="upper right", ncols=2)
+    handles: dict[str, object] = {}
+    for ax in (ax_a, ax_d, ax_e):
+        for handle, label in zip(*ax.get_legend_handles_labels(), strict=True):
+            handles.setdefault(label, handle)
+    fig.legend(
+        list(handles.values()), list(handles), loc="outside lower center", ncols=5, fontsize="small"
+    )
     fig.suptitle(
         f"Fig. 6 — normal vibration with momentary loss of contact, "
         f"$A$ = {amplitude_ratio:g} $y_0$ = {amplitude * UM:.3f} µm, $F$ = {force:g} N: "
@@ -755,21 +769,6 @@ FIGURES: dict[str, Callable[[Parameters], tuple[Figure, xr.Dataset]]] = {
     "fig5": figure5,
     "fig6": figure6,
 }
-
-
-def _atomic_write(path: Path, write: Callable[[str], None]) -> None:
-    """Call ``write(tmp)`` on a temporary file beside ``path``, then move it into place."""
-    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
-    os.close(fd)
-    try:
-        write(tmp)
-        os.replace(tmp, path)
-    except BaseException:
-        try:
-            os.unlink(tmp)
-        except FileNotFoundError:
-            pass
-        raise
 
 
 def write_paper_figures(
@@ -810,7 +809,7 @@ def write_paper_figures(
     unknown = [name for name in figures if name not in FIGURES]
     if unknown:
         raise ValueError(f"unknown figure {unknown[0]!r}; known: {', '.join(FIGURES)}")
-    if isinstance(dpi, bool) or not isinstance(dpi, int) or dpi <= 0:
+    if isinstance(dpi, bool) or not isinstance(dpi, numbers.Integral) or dpi <= 0:
         raise ValueError(f"dpi must be a positive integer, got {dpi!r}")
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
@@ -821,8 +820,8 @@ def write_paper_figures(
         fig, ds = FIGURES[name](params)
         png = out / f"{name}.png"
         nc = out / f"{name}.nc"
-        _atomic_write(png, lambda tmp, fig=fig: fig.savefig(tmp, format="png", dpi=dpi))
-        _atomic_write(nc, lambda tmp, ds=ds: ds.to_netcdf(tmp, engine="netcdf4"))
+        write_atomically(png, lambda tmp, fig=fig: fig.savefig(tmp, format="png", dpi=dpi))
+        write_dataset(ds, nc)
         written += [png, nc]
         if progress is not None:
             progress(f"{name}: wrote {png.name}, {nc.name}")
