@@ -17,6 +17,9 @@ __all__ = ["RK4_MAX_STEP_FRACTION", "initial_state_from_amplitude", "simulate"]
 # An RK4 step must resolve the contact vibration: at most this fraction of T0 = 1/f0.
 RK4_MAX_STEP_FRACTION = 0.1
 DEFAULT_RK4_STEPS_PER_PERIOD = 200
+# Defaults of the event method: x(t) within ~5e-9 relative of an independent integration.
+DEFAULT_RTOL = 1e-11
+DEFAULT_ATOL = 1e-13
 
 
 def initial_state_from_amplitude(params: Parameters, amplitude: float) -> tuple[float, ...]:
@@ -47,8 +50,8 @@ def simulate(
     initial_state: Sequence[float] | None = None,
     method: str = "event",
     dt: float | None = None,
-    rtol: float = 1e-10,
-    atol: float = 1e-12,
+    rtol: float = DEFAULT_RTOL,
+    atol: float = DEFAULT_ATOL,
     t_eval: Sequence[float] | np.ndarray | None = None,
     save_every: int = 1,
 ) -> SimulationResult:

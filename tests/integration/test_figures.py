@@ -194,7 +194,7 @@ def test_fig5_slip_phases_follow_the_steady_cycle(data):
         x_rel = column["x_from_release"].values
         state = column["state"].values
         # at each stick start (after the first slip) x_from_release is the slip distance
-        starts = np.flatnonzero((state[1:] == STICK) & (state[:-1] != STICK))
+        starts = np.flatnonzero((state[1:] == STICK) & (state[:-1] != STICK)) + 1
         ends = x_rel[starts][1:]
         assert ends.size >= 2
         np.testing.assert_allclose(ends, cycle.slip_distance, rtol=1e-6)

@@ -19,6 +19,10 @@ integration restarts in the new mode there:
 Inside a segment the right-hand side is the smooth (analytic for m2 = 2) law of that
 mode, so DOP853 keeps its order up to the switch. Only F >= 0 is supported (then the
 slider never slides backwards, REFERENCE fact 5).
+
+Limitation: like any sign-change event detection (scipy #9228) it can step over a dip of
+μ|R| below F that starts and ends inside one step, so it is meant for forces well away
+from the motion threshold (the tests use F = 0.5 N against thresholds <= 0.44 N).
 """
 
 from __future__ import annotations
@@ -128,11 +132,9 @@ def reference_solution(
     tau = 0.0
     i_eval = 0
     n_segments = 0
-    while True:
-        # t_eval points in [tau, tau_end] not yet written (a restart point at an output
-        # time was written by the segment that ended there).
-        while i_eval < tau_eval.size and tau_eval[i_eval] < tau:
-            i_eval += 1
+    while tau < tau_end:
+        # Output times not yet written (one at a restart point was written by the segment
+        # that ended there: scipy includes t_eval values up to the event time).
         segment_eval = tau_eval[i_eval:]
         events, kinds = [], []
         if contact == CONTACT:
@@ -147,8 +149,11 @@ def reference_solution(
         if slip == SLIP:
             events.append(make_event(lambda u: u[3], -1.0))
             kinds.append(STICK_START)
-        if tau >= tau_end:
-            break
+        # Sliding from rest may last a very short time near the motion threshold: start
+        # with a small step so that the speed's return to zero is bracketed, not skipped.
+        first_step = None
+        if slip == SLIP and u[3] == 0.0:
+            first_step = min(1e-6, tau_end - tau)
         sol = solve_ivp(
             rhs_factory(contact, slip),
             (tau, tau_end),
@@ -158,6 +163,7 @@ def reference_solution(
             atol=atol,
             events=events,
             t_eval=segment_eval,
+            first_step=first_step,
         )
         if sol.status < 0:
             raise RuntimeError(f"reference integration failed: {sol.message}")

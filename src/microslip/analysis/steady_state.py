@@ -96,10 +96,13 @@ def steady_cycle(force, ys, yds, summary, c, out):
     distance = (
         0.5 * accel * slip_time * slip_time + mu * (y_stop - y_release) + mu * speed_d * slip_time
     )
+    # Just above the threshold these terms cancel down to rounding of y (~1e-13 y0); the
+    # slider never moves backwards (F >= 0), so a negative residue is no slip at all.
+    distance = max(distance, 0.0)
     out[CY_MEAN] = distance / period
     out[CY_SLIP_TIME] = slip_time
     out[CY_DISTANCE] = distance
-    out[CY_PEAK] = 2.0 * (accel * t_d + mu * speed_d)
+    out[CY_PEAK] = max(2.0 * (accel * t_d + mu * speed_d), 0.0)
     out[CY_RELEASE] = period - t_d
 
 

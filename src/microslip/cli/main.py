@@ -136,6 +136,7 @@ _SIMULATE_OPTIONS = {
 def cmd_simulate(args: argparse.Namespace) -> int:
     import microslip as ms
     from microslip.io.output import DATASET_SUFFIXES, check_writable, write_dataset
+    from microslip.simulation import DEFAULT_ATOL, DEFAULT_RTOL
 
     params, opts = _options(args, "simulate", _SIMULATE_OPTIONS)
     for required in ("force", "duration"):
@@ -168,8 +169,8 @@ def cmd_simulate(args: argparse.Namespace) -> int:
         initial_state=initial_state,
         method=opts.get("method", "event"),
         dt=opts.get("dt"),
-        rtol=opts.get("rtol", 1e-10),
-        atol=opts.get("atol", 1e-12),
+        rtol=opts.get("rtol", DEFAULT_RTOL),
+        atol=opts.get("atol", DEFAULT_ATOL),
         t_eval=t_eval,
         save_every=opts.get("save_every", 1),
     )

@@ -124,7 +124,7 @@ def _trajectories(
 
     The grid is ``samples`` uniform points plus every switching instant of every run, so
     the corners of stick, slip and loss of contact are drawn exactly (the sample at a
-    switching instant holds the state just before the switch).
+    switching instant holds the state just after the switch).
     """
     grid = [np.linspace(0.0, duration, samples)]
     for amplitude in amplitudes:
@@ -538,13 +538,13 @@ def figure4(
 def _slip_phases(run: SimulationResult) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Samples of the sliding phases, those of the first one, and x from each release [m].
 
-    Each phase includes its release sample (the sample at a switching instant holds the
-    state just before it). The first phase starts from rest at the highest point at
-    t = 0, not from a release, and is a transient.
+    Each phase runs from its release sample to the sample of the stop (the sample at a
+    switching instant holds the state just after it). The first phase starts from rest at
+    the highest point at t = 0, not from a release, and is a transient.
     """
     stick = run.state == STICK
     slide = ~stick
-    slide[:-1] |= ~stick[1:]
+    slide[1:] |= ~stick[:-1]
     sticks = np.flatnonzero(stick)
     first = slide & (np.arange(slide.size) < (sticks[0] if sticks.size else slide.size))
     start = slide.copy()
