@@ -71,7 +71,7 @@ def simulate(
     initial_state : (y [m], ẏ [m/s], x [m], ẋ [m/s]), optional
         An explicit initial state instead of ``amplitude``.
     method : {"event", "rk4"}
-        ``"event"``: adaptive Dormand–Prince 5(4) with every switching instant located
+        ``"event"``: adaptive Dormand–Prince 8(5,3) (DOP853) with every switching instant located
         and the integration restarted there. ``"rk4"``: the paper's fixed-step classical
         Runge–Kutta on the grid k·dt, with switching instants located inside the step so
         it keeps 4th order through stick–slip and loss of contact.

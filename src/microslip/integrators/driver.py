@@ -7,10 +7,10 @@ from dataclasses import dataclass
 import numpy as np
 
 from microslip.integrators import kernel
-from microslip.integrators.steppers import DP54, RK4
+from microslip.integrators.methods import DOP853, RK4
 from microslip.integrators.switching import EVENT_NAMES, initial_direction
 
-METHODS = {"rk4": RK4, "event": DP54}
+METHODS = {"rk4": RK4, "event": DOP853}
 
 
 @dataclass(frozen=True)

@@ -1,7 +1,7 @@
 """The explicit stick–slip loop: trial step, locate the first switch, switch, go on.
 
-One compiled loop serves both methods: fixed-step RK4 on the grid t0 + k·dt, and
-adaptive Dormand–Prince 5(4). It fills caller-owned output buffers and returns when
+One compiled loop serves every method: fixed-step RK4 on the grid t0 + k·dt, and the
+adaptive Dormand–Prince pairs. It fills caller-owned output buffers and returns when
 they are full, so the Python driver can stream a long run in bounded memory.
 """
 
@@ -9,7 +9,7 @@ from __future__ import annotations
 
 from numba import njit
 
-from microslip.integrators.steppers import DP54, RK4, advance
+from microslip.integrators.methods import CONTROLLER_EXPONENT, RK4, advance
 from microslip.integrators.switching import apply_switch, first_switch
 
 # Slots of the carry vector that holds the loop state between calls.
@@ -65,6 +65,7 @@ def integrate_chunk(
     n_steps = int(carry[C_STEPS])
     n_rejects = int(carry[C_REJECTS])
     use_t_eval = t_eval.shape[0] > 0
+    exponent = CONTROLLER_EXPONENT[method]
     switches_in_step = 0
     status = DONE
     while t < t_end:
@@ -86,9 +87,9 @@ def integrate_chunk(
                 h = t_end - t
                 target = t_end
         s1, err = advance(method, s, t, h, direction, c, rtol, atol)
-        if method == DP54 and not err <= 1.0:
+        if method != RK4 and not err <= 1.0:
             n_rejects += 1
-            factor = 0.2 if err != err else max(0.2, 0.9 * err**-0.2)
+            factor = 0.2 if err != err else max(0.2, 0.9 * err**exponent)
             h_ctrl = h * factor
             if h_ctrl <= 1e-14 * (abs(t) + abs(h)):
                 status = STEP_UNDERFLOW
@@ -137,7 +138,7 @@ def integrate_chunk(
             if method == RK4:
                 k += 1
             elif err > 0.0:
-                h_ctrl = h * min(10.0, 0.9 * err**-0.2)
+                h_ctrl = h * min(10.0, 0.9 * err**exponent)
             else:
                 h_ctrl = h * 10.0
         t = t_piece

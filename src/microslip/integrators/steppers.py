@@ -14,9 +14,6 @@ from numba import njit
 from microslip.model.contact import normal_acceleration
 from microslip.model.friction import slip_acceleration
 
-RK4 = 0
-DP54 = 1
-
 
 @njit(cache=True, inline="always")
 def derivatives(y, ydot, xdot, t, direction, c):
@@ -115,11 +112,3 @@ def dp54_step(s, t, h, direction, c, rtol, atol):
         scale = atol[i] + rtol * max(abs(s[i]), abs(new[i]))
         total += (err / scale) ** 2
     return new, math.sqrt(total / 4.0)
-
-
-@njit(cache=True)
-def advance(method, s, t, h, direction, c, rtol, atol):
-    """One step of the chosen method; returns (state, error norm; 0 for RK4)."""
-    if method == RK4:
-        return rk4_step(s, t, h, direction, c), 0.0
-    return dp54_step(s, t, h, direction, c, rtol, atol)

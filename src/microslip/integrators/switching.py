@@ -16,7 +16,7 @@ from __future__ import annotations
 
 from numba import njit
 
-from microslip.integrators.steppers import advance
+from microslip.integrators.methods import advance
 from microslip.model.friction import drive_force, friction_limit, slip_acceleration
 
 # Switching functions.
