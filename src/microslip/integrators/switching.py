@@ -17,7 +17,15 @@ from __future__ import annotations
 from numba import njit
 
 from microslip.integrators.methods import advance
-from microslip.model.friction import drive_force, friction_limit, slip_acceleration
+from microslip.model.coefficients import MASS
+from microslip.model.contact import normal_acceleration
+from microslip.model.friction import (
+    drive_force,
+    drive_force_rate,
+    friction_limit,
+    friction_limit_rate,
+    slip_acceleration,
+)
 
 # Switching functions.
 CONTACT_GAP = 0  # y: > 0 in contact
@@ -53,6 +61,24 @@ def switching_value(which, s, t, direction, c):
 
 
 @njit(cache=True, inline="always")
+def switching_rate(which, s, t, direction, c):
+    """Time derivative of :func:`switching_value` along the motion (for Newton steps)."""
+    y, yd, _x, _xd = s
+    if which == CONTACT_GAP:
+        return yd
+    if which == TURNING:
+        return normal_acceleration(y, yd, c)
+    if which == SLIDING_SPEED:
+        return direction * slip_acceleration(y, yd, t, direction, c)
+    force = drive_force(t, c)
+    force_rate = drive_force_rate(t, c)
+    if which == STICK_MARGIN:
+        sign_f = 1.0 if force > 0.0 else (-1.0 if force < 0.0 else 0.0)
+        return friction_limit_rate(y, yd, t, c) - sign_f * force_rate
+    return (direction * force_rate - friction_limit_rate(y, yd, t, c)) / c[MASS]
+
+
+@njit(cache=True, inline="always")
 def _inside(which, value):
     # The stick margin may be exactly zero while stick holds (|F| <= μ|R|, eq. 2.2).
     if which == STICK_MARGIN:
@@ -64,23 +90,23 @@ def _inside(which, value):
 def locate(which, method, s0, t, h, direction, c, rtol, atol, lo, hi, f_lo, f_hi):
     """Fraction θ in (lo, hi] of the step where switching function ``which`` flips.
 
-    Illinois false position on θ; each trial state is a step of length θh from ``s0``.
-    Returns the first θ known to lie past the flip, to within a few ulps of t.
+    Each trial state is a step of length θh from ``s0``. Newton steps use the switching
+    function's rate along the motion; the bracket [lo, hi] is kept, and a trial outside
+    it falls back to Illinois false position. Returns the first θ known to lie past the
+    flip, to within a few ulps of t.
     """
     side_lo = _inside(which, f_lo)
     tolerance = 4.0 * _EPS * (abs(t) + abs(h)) / abs(h)
     retained = 0
+    theta = hi - f_hi * (hi - lo) / (f_hi - f_lo) if f_hi != f_lo else 0.5 * (lo + hi)
     for _ in range(200):
         if hi - lo <= tolerance:
             break
-        if f_hi != f_lo:
-            theta = hi - f_hi * (hi - lo) / (f_hi - f_lo)
-        else:
-            theta = 0.5 * (lo + hi)
         if not (lo < theta < hi):
             theta = 0.5 * (lo + hi)
         s_mid, _err = advance(method, s0, t, theta * h, direction, c, rtol, atol)
-        f_mid = switching_value(which, s_mid, t + theta * h, direction, c)
+        t_mid = t + theta * h
+        f_mid = switching_value(which, s_mid, t_mid, direction, c)
         if _inside(which, f_mid) == side_lo:
             lo, f_lo = theta, f_mid
             if retained == -1:
@@ -91,6 +117,19 @@ def locate(which, method, s0, t, h, direction, c, rtol, atol, lo, hi, f_lo, f_hi
             if retained == 1:
                 f_lo *= 0.5
             retained = 1
+        slope = switching_rate(which, s_mid, t_mid, direction, c) * h
+        step = f_mid / slope if slope != 0.0 else 0.0
+        if slope != 0.0 and abs(step) <= 0.25 * tolerance:
+            # Converged: probe just past the root to close the bracket from the far side.
+            theta = theta - step + (0.5 * tolerance if retained == -1 else -0.5 * tolerance)
+            continue
+        newton = theta - step
+        if slope != 0.0 and lo < newton < hi:
+            theta = newton
+        elif f_hi != f_lo:
+            theta = hi - f_hi * (hi - lo) / (f_hi - f_lo)
+        else:
+            theta = 0.5 * (lo + hi)
     return hi
 
 
@@ -104,27 +143,48 @@ def _interior_extremum(extremum_fn, method, s0, s1, t, h, direction, c, rtol, at
     return locate(extremum_fn, method, s0, t, h, direction, c, rtol, atol, 0.0, 1.0, f0, f1)
 
 
-@njit(cache=True)
-def _first_flip(which, extremum_fn, method, s0, s1, t, h, direction, c, rtol, atol):
-    """θ of the first flip of ``which`` in the step (or 2.0 if none).
+@njit(cache=True, inline="always")
+def _lowest_height(s0, s1, h, c):
+    """A lower bound [m] of y over a step that contains the top of the normal motion.
 
-    Checks the step end and the interior extremum of ``which`` (where ``extremum_fn``
-    changes sign), so a double crossing inside one step is not missed.
+    Near the top ÿ > 0, so ẏ is monotone and y dips below its lower end value by at most
+    h·max|ẏ|; the bound doubles that allowance and adds an h²|ÿ| term for safety.
+    """
+    a0 = normal_acceleration(s0[0], s0[1], c)
+    a1 = normal_acceleration(s1[0], s1[1], c)
+    band = h * (abs(s0[1]) + abs(s1[1])) + h * h * (abs(a0) + abs(a1))
+    return min(s0[0], s1[0]) - band
+
+
+@njit(cache=True)
+def _first_flip(which, method, s0, s1, t, h, direction, c, rtol, atol):
+    """θ of the first flip of the gap y or the stick margin in the step (or 2.0 if none).
+
+    Both are monotone in y, so they can flip twice inside one step only around a turning
+    point of y (ẏ = 0): the top (a minimum of both) or, in flight, a bottom. Such a
+    turning point is located and checked only when the cheap bound of
+    :func:`_lowest_height` does not already exclude a double crossing.
     """
     f0 = switching_value(which, s0, t, direction, c)
     f1 = switching_value(which, s1, t + h, direction, c)
     inside0 = _inside(which, f0)
-    theta_x = _interior_extremum(extremum_fn, method, s0, s1, t, h, direction, c, rtol, atol)
-    if theta_x > 0.0 and theta_x < 1.0:
-        sx, _err = advance(method, s0, t, theta_x * h, direction, c, rtol, atol)
-        fx = switching_value(which, sx, t + theta_x * h, direction, c)
-        if _inside(which, fx) != inside0:
-            return locate(which, method, s0, t, h, direction, c, rtol, atol, 0.0, theta_x, f0, fx)
-        if _inside(which, f1) != inside0:
-            return locate(which, method, s0, t, h, direction, c, rtol, atol, theta_x, 1.0, fx, f1)
-        return 2.0
-    if _inside(which, f1) != inside0:
+    if _inside(which, f1) != inside0:  # one turning point at most: a single crossing
         return locate(which, method, s0, t, h, direction, c, rtol, atol, 0.0, 1.0, f0, f1)
+    top = s0[1] < 0.0 <= s1[1]
+    bottom = s0[1] > 0.0 >= s1[1]
+    if top:
+        low = (_lowest_height(s0, s1, h, c), 0.0, s0[2], s0[3])
+        if _inside(which, switching_value(which, low, t, direction, c)) == inside0:
+            return 2.0
+    elif not (bottom and which == CONTACT_GAP and not inside0):
+        return 2.0  # a bottom is a maximum: it matters only for contact seen from flight
+    theta_x = _interior_extremum(TURNING, method, s0, s1, t, h, direction, c, rtol, atol)
+    if not (0.0 < theta_x < 1.0):
+        return 2.0
+    sx, _err = advance(method, s0, t, theta_x * h, direction, c, rtol, atol)
+    fx = switching_value(which, sx, t + theta_x * h, direction, c)
+    if _inside(which, fx) != inside0:
+        return locate(which, method, s0, t, h, direction, c, rtol, atol, 0.0, theta_x, f0, fx)
     return 2.0
 
 
@@ -132,26 +192,42 @@ def _first_flip(which, extremum_fn, method, s0, s1, t, h, direction, c, rtol, at
 def _first_stop(method, s0, s1, t, h, direction, c, rtol, atol):
     """θ where the sliding speed s·ẋ first returns to zero in the step (or 2.0).
 
-    Sliding may have just started (s·ẋ = 0 at θ = 0): only a drop from a positive speed
-    counts, and the interior maximum or minimum of the speed (s·ẍ = 0) is checked.
+    s·ẍ = (s F - μ|R(y)|)/m is monotone in y, so the speed has at most one interior
+    extremum per step. Right after a release (s·ẋ = 0, net force >= 0) the speed first
+    rises: it can stop only after its maximum. While sliding, a minimum inside the step
+    can touch zero; it is located only when the bound h(|ẍ0| + |ẍ1|) on the dip allows.
     """
     v0 = switching_value(SLIDING_SPEED, s0, t, direction, c)
     v1 = switching_value(SLIDING_SPEED, s1, t + h, direction, c)
-    theta_x = _interior_extremum(NET_FORCE, method, s0, s1, t, h, direction, c, rtol, atol)
-    if theta_x > 0.0 and theta_x < 1.0:
-        sx, _err = advance(method, s0, t, theta_x * h, direction, c, rtol, atol)
-        vx = switching_value(SLIDING_SPEED, sx, t + theta_x * h, direction, c)
-        if v0 > 0.0 and vx <= 0.0:
+    a0 = switching_value(NET_FORCE, s0, t, direction, c)
+    a1 = switching_value(NET_FORCE, s1, t + h, direction, c)
+    if v0 > 0.0:
+        if v1 <= 0.0:
             return locate(
-                SLIDING_SPEED, method, s0, t, h, direction, c, rtol, atol, 0.0, theta_x, v0, vx
+                SLIDING_SPEED, method, s0, t, h, direction, c, rtol, atol, 0.0, 1.0, v0, v1
             )
-        if vx > 0.0 and v1 <= 0.0:
-            return locate(
-                SLIDING_SPEED, method, s0, t, h, direction, c, rtol, atol, theta_x, 1.0, vx, v1
-            )
+        if not (a0 < 0.0 < a1) or min(v0, v1) > h * (abs(a0) + abs(a1)):
+            return 2.0
+    elif a1 > 0.0:
+        return 2.0  # just released and still accelerating at the step end
+    # The interior extremum: after a release the maximum (its net force at θ = 0 is
+    # zero up to rounding, so it is taken as positive), else the minimum.
+    a_start = abs(a0) if v0 <= 0.0 else a0
+    if a_start == 0.0:
+        a_start = 1e-300
+    theta_x = locate(NET_FORCE, method, s0, t, h, direction, c, rtol, atol, 0.0, 1.0, a_start, a1)
+    if not (0.0 < theta_x < 1.0):
         return 2.0
-    if v0 > 0.0 and v1 <= 0.0:
-        return locate(SLIDING_SPEED, method, s0, t, h, direction, c, rtol, atol, 0.0, 1.0, v0, v1)
+    sx, _err = advance(method, s0, t, theta_x * h, direction, c, rtol, atol)
+    vx = switching_value(SLIDING_SPEED, sx, t + theta_x * h, direction, c)
+    if v0 > 0.0 and vx <= 0.0:
+        return locate(
+            SLIDING_SPEED, method, s0, t, h, direction, c, rtol, atol, 0.0, theta_x, v0, vx
+        )
+    if v0 <= 0.0 and vx > 0.0 and v1 <= 0.0:
+        return locate(
+            SLIDING_SPEED, method, s0, t, h, direction, c, rtol, atol, theta_x, 1.0, vx, v1
+        )
     return 2.0
 
 
@@ -162,10 +238,10 @@ def first_switch(method, s0, s1, t, h, direction, c, rtol, atol):
     Returns (θ, which) with θ in (0, 1], or (2.0, -1) when the step holds no switch.
     """
     # y = 0 counts as flight, so the contact state is always (y > 0) at the step start.
-    best = _first_flip(CONTACT_GAP, TURNING, method, s0, s1, t, h, direction, c, rtol, atol)
+    best = _first_flip(CONTACT_GAP, method, s0, s1, t, h, direction, c, rtol, atol)
     which = CONTACT_GAP if best <= 1.0 else -1
     if direction == 0.0:
-        theta = _first_flip(STICK_MARGIN, TURNING, method, s0, s1, t, h, direction, c, rtol, atol)
+        theta = _first_flip(STICK_MARGIN, method, s0, s1, t, h, direction, c, rtol, atol)
         if theta < best:
             best, which = theta, STICK_MARGIN
     else:

@@ -13,7 +13,14 @@ from numba import njit
 from microslip.model.coefficients import AREA_CN, EXPONENT, GRAVITY, MASS
 from microslip.model.parameters import Parameters
 
-__all__ = ["normal_reaction", "potential_energy", "reaction", "reaction_array"]
+__all__ = [
+    "normal_acceleration",
+    "normal_reaction",
+    "potential_energy",
+    "reaction",
+    "reaction_array",
+    "reaction_rate",
+]
 
 
 @njit(cache=True, inline="always")
@@ -29,6 +36,17 @@ def reaction(y: float, ydot: float, c: np.ndarray) -> float:
     if m2 == 2.0:
         return c[AREA_CN] * y * y
     return c[AREA_CN] * y**m2
+
+
+@njit(cache=True, inline="always")
+def reaction_rate(y: float, ydot: float, c: np.ndarray) -> float:
+    """d|R|/dt = m2 S c_n y^(m2-1) ẏ [N/s] along the motion (0 out of contact)."""
+    if y <= 0.0:
+        return 0.0
+    m2 = c[EXPONENT]
+    if m2 == 2.0:
+        return 2.0 * c[AREA_CN] * y * ydot
+    return m2 * c[AREA_CN] * y ** (m2 - 1.0) * ydot
 
 
 @njit(cache=True, inline="always")

@@ -6,9 +6,15 @@ import numpy as np
 from numba import njit
 
 from microslip.model.coefficients import FORCE, MASS, MU
-from microslip.model.contact import reaction
+from microslip.model.contact import reaction, reaction_rate
 
-__all__ = ["drive_force", "friction_limit", "slip_acceleration"]
+__all__ = [
+    "drive_force",
+    "drive_force_rate",
+    "friction_limit",
+    "friction_limit_rate",
+    "slip_acceleration",
+]
 
 
 @njit(cache=True, inline="always")
@@ -18,9 +24,21 @@ def drive_force(t: float, c: np.ndarray) -> float:
 
 
 @njit(cache=True, inline="always")
+def drive_force_rate(t: float, c: np.ndarray) -> float:
+    """dF/dt [N/s]; zero for the constant drive."""
+    return 0.0
+
+
+@njit(cache=True, inline="always")
 def friction_limit(y: float, ydot: float, t: float, c: np.ndarray) -> float:
     """Largest friction force the contact can transmit, μ|R| [N], eq. (2.2)."""
     return c[MU] * reaction(y, ydot, c)
+
+
+@njit(cache=True, inline="always")
+def friction_limit_rate(y: float, ydot: float, t: float, c: np.ndarray) -> float:
+    """d(μ|R|)/dt [N/s] along the motion."""
+    return c[MU] * reaction_rate(y, ydot, c)
 
 
 @njit(cache=True, inline="always")
