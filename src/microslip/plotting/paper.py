@@ -113,6 +113,16 @@ def _common_attrs(params: Parameters, figure: str, caption: str) -> dict:
     }
 
 
+def _steady_cycle_variables(distance: np.ndarray, velocity: np.ndarray) -> dict:
+    """Per-amplitude steady slip distance [m] and mean velocity [m/s] (Figs. 4–5)."""
+    return {
+        "slip_distance": _var(
+            "amplitude", distance, "m", "steady slip distance per normal period (Delta x)"
+        ),
+        "mean_velocity": _var("amplitude", velocity, "m s-1", "steady mean sliding velocity"),
+    }
+
+
 def _trajectories(
     params: Parameters,
     force: float,
@@ -448,12 +458,7 @@ def figure4(
     distance, velocity = _cycle_summary(params, force, amplitudes)
     variables = _motion_variables(params, force, runs)
     variables["amplitude_ratio"] = _var("amplitude", np.asarray(ratios), "1", "A / y0")
-    variables["slip_distance"] = _var(
-        "amplitude", distance, "m", "steady slip distance per normal period (Delta x)"
-    )
-    variables["mean_velocity"] = _var(
-        "amplitude", velocity, "m s-1", "steady mean sliding velocity"
-    )
+    variables.update(_steady_cycle_variables(distance, velocity))
     ds = xr.Dataset(
         variables,
         coords={"time": _time_coord(t), "amplitude": _amplitude_coord(amplitudes)},
@@ -572,12 +577,7 @@ def figure5(
         "m",
         "x minus x at the release of the current slip phase (NaN while sticking), Fig. 5f",
     )
-    variables["slip_distance"] = _var(
-        "amplitude", distance, "m", "steady slip distance per normal period (Delta x)"
-    )
-    variables["mean_velocity"] = _var(
-        "amplitude", velocity, "m s-1", "steady mean sliding velocity"
-    )
+    variables.update(_steady_cycle_variables(distance, velocity))
     ds = xr.Dataset(
         variables,
         coords={"time": _time_coord(t), "amplitude": _amplitude_coord(amplitudes)},
