@@ -82,7 +82,8 @@ _G, _SCN, _M2, _M, _IM = 6, 7, 8, 9, 10  # g, S c_n, m2, m, 1/m
 _FE, _DMU = 11, 12  # F if sliding else 0; direction·μ (so that ẍ = (FE - DMU |R|)/m)
 _TLO, _THI = 13, 14  # band of y where the friction test μ|R(y)| < threshold flips
 _FLAG = 15
-_ROWS = 16
+_Y1, _YD1, _X1, _XD1 = 16, 17, 18, 19  # the trial step, also for flagged lanes
+_ROWS = 20
 
 # Vector-pass variants, chosen per block (all give rk4_step's bits).
 _UNIT_MASS = 0  # m2 == 2 and m == 1: no scaling by 1/m at all
@@ -146,6 +147,7 @@ def _accelerations(y, g, scn, m2, m, im, fe, dmu, mode):
 def _vector_pass(lanes, h, buf, mode):
     """One RK4 step in every lane of a block, in place; flagged lanes keep their state.
 
+    The trial step is also stored in rows _Y1.._XD1 (the scalar pass reuses it).
     Returns the number of flagged lanes (buf[_FLAG] = 1 for them).
     """
     hh = 0.5 * h
@@ -195,6 +197,10 @@ def _vector_pass(lanes, h, buf, mode):
         near_rest = min(v0, v1) <= h2 * (abs(a3) + abs(d3))  # always true in stick
         stop = (v1 <= 0.0) & (d != 0.0)
         flag = contact | (friction & near_rest) | stop | (buf[_T, i] >= 0.0)
+        buf[_Y1, i] = y1
+        buf[_YD1, i] = yd1
+        buf[_X1, i] = x1
+        buf[_XD1, i] = xd1
         buf[_Y, i] = y if flag else y1
         buf[_YD, i] = yd if flag else yd1
         buf[_X, i] = x if flag else x1
@@ -247,15 +253,21 @@ def _set_mode(buf, i, direction, c):
 
 
 @njit(cache=True)
-def _scalar_step(s, direction, t, target, c):
+def _scalar_step(s, direction, t, target, c, s1, have_s1):
     """integrate_chunk's RK4 loop body from (t, s) up to the grid point ``target``.
 
+    ``s1``: when ``have_s1``, rk4_step(s, t, target - t, direction, c), already taken
+    (with the same bits) by the vector pass; it is not recomputed.
     Returns (state, direction, time reached, switches, stalled).
     """
     switches = 0
+    reuse = have_s1
     while t < target:
         h = target - t
-        s1 = rk4_step(s, t, h, direction, c)
+        if reuse:
+            reuse = False
+        else:
+            s1 = rk4_step(s, t, h, direction, c)
         theta, which = first_switch(RK4, s, s1, t, h, direction, c, 1.0, _ZERO_ATOL)
         if which >= 0 and theta < 1.0:
             t_piece = t + theta * h
@@ -332,10 +344,14 @@ def _run_blocks(coeffs, states, directions, times, switches, flagged, status, gr
                 count -= 1
                 if lane_status[i] == LANE_OK:
                     n_flag[i] += 1
-                    t_lane = buf[_T, i] if buf[_T, i] >= 0.0 else t_prev
+                    on_grid = buf[_T, i] < 0.0  # then the vector trial step is the same
+                    t_lane = t_prev if on_grid else buf[_T, i]
                     s = (buf[_Y, i], buf[_YD, i], buf[_X, i], buf[_XD, i])
+                    s1 = (buf[_Y1, i], buf[_YD1, i], buf[_X1, i], buf[_XD1, i])
                     c = local_coeffs[i]
-                    s, d, t_lane, nsw, stalled = _scalar_step(s, buf[_DIR, i], t_lane, target, c)
+                    s, d, t_lane, nsw, stalled = _scalar_step(
+                        s, buf[_DIR, i], t_lane, target, c, s1, on_grid
+                    )
                     buf[_Y, i] = s[0]
                     buf[_YD, i] = s[1]
                     buf[_X, i] = s[2]
