@@ -113,14 +113,33 @@ def _common_attrs(params: Parameters, figure: str, caption: str) -> dict:
     }
 
 
-def _steady_cycle_variables(distance: np.ndarray, velocity: np.ndarray) -> dict:
-    """Per-amplitude steady slip distance [m] and mean velocity [m/s] (Figs. 4–5)."""
-    return {
+def _cycle_dataset(
+    params: Parameters,
+    force: float,
+    variables: dict,
+    t: np.ndarray,
+    ratios: Sequence[float],
+    figure: str,
+    caption: str,
+) -> xr.Dataset:
+    """Dataset of Figs. 4–5: ``variables`` on (time, amplitude) plus, per amplitude A =
+    ratio·y0, A/y0 and the steady slip distance per normal period [m] and mean velocity
+    [m/s] under ``force`` [N]."""
+    amplitudes = [r * params.static_deflection for r in ratios]
+    distance, velocity = _cycle_summary(params, force, amplitudes)
+    variables = {
+        **variables,
+        "amplitude_ratio": _var("amplitude", np.asarray(ratios), "1", "A / y0"),
         "slip_distance": _var(
             "amplitude", distance, "m", "steady slip distance per normal period (Delta x)"
         ),
         "mean_velocity": _var("amplitude", velocity, "m s-1", "steady mean sliding velocity"),
     }
+    return xr.Dataset(
+        variables,
+        coords={"time": _time_coord(t), "amplitude": _amplitude_coord(amplitudes)},
+        attrs=_common_attrs(params, figure, caption),
+    )
 
 
 def _trajectories(
@@ -455,20 +474,13 @@ def figure4(
     ratios = (0.0, 1 / 3, 2 / 3, 1.0)
     amplitudes = [r * y0 for r in ratios]
     t, runs = _trajectories(params, force, amplitudes, duration, 5001)
-    distance, velocity = _cycle_summary(params, force, amplitudes)
     variables = _motion_variables(params, force, runs)
-    variables["amplitude_ratio"] = _var("amplitude", np.asarray(ratios), "1", "A / y0")
-    variables.update(_steady_cycle_variables(distance, velocity))
-    ds = xr.Dataset(
-        variables,
-        coords={"time": _time_coord(t), "amplitude": _amplitude_coord(amplitudes)},
-        attrs=_common_attrs(
-            params,
-            "Fig. 4",
-            "Normal micro-vibrations with amplitudes A = 0, y0/3, 2y0/3, y0 and their "
-            f"influence on R, F_t and x, xdot, xddot under F = {force:g} N",
-        ),
+    caption = (
+        "Normal micro-vibrations with amplitudes A = 0, y0/3, 2y0/3, y0 and their "
+        f"influence on R, F_t and x, xdot, xddot under F = {force:g} N"
     )
+    ds = _cycle_dataset(params, force, variables, t, ratios, "Fig. 4", caption)
+    distance, velocity = ds["slip_distance"].values, ds["mean_velocity"].values
 
     fig = _new_figure((14.0, 17.0))
     axes = fig.subplots(8, 4, sharex=True)
@@ -567,27 +579,19 @@ def figure5(
     ratios = (2 / 3, 1.0)
     amplitudes = [r * y0 for r in ratios]
     t, runs = _trajectories(params, force, amplitudes, duration, 6001)
-    distance, velocity = _cycle_summary(params, force, amplitudes)
     phases = [_slip_phases(run) for run in runs]
     variables = _motion_variables(params, force, runs)
-    variables["amplitude_ratio"] = _var("amplitude", np.asarray(ratios), "1", "A / y0")
     variables["x_from_release"] = _var(
         ("amplitude", "time"),
         np.stack([phase[2] for phase in phases]),
         "m",
         "x minus x at the release of the current slip phase (NaN while sticking), Fig. 5f",
     )
-    variables.update(_steady_cycle_variables(distance, velocity))
-    ds = xr.Dataset(
-        variables,
-        coords={"time": _time_coord(t), "amplitude": _amplitude_coord(amplitudes)},
-        attrs=_common_attrs(
-            params,
-            "Fig. 5",
-            "Friction force F_t and velocity xdot of the slider in stick-slip motion for "
-            "the two largest amplitudes of Fig. 4",
-        ),
+    caption = (
+        "Friction force F_t and velocity xdot of the slider in stick-slip motion for "
+        "the two largest amplitudes of Fig. 4"
     )
+    ds = _cycle_dataset(params, force, variables, t, ratios, "Fig. 5", caption)
 
     fig = _new_figure((15.0, 8.5))
     (ax_a, ax_b, ax_c), (ax_d, ax_e, ax_f) = fig.subplots(2, 3)
