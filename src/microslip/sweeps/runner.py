@@ -70,18 +70,19 @@ def run_sweep(
     """
     if workers is not None and (isinstance(workers, bool) or int(workers) < 1):
         raise ValueError(f"workers must be an integer >= 1, got {workers!r}")
-    sweep_store = SweepStore(store, spec) if store is not None else None
-    todo = sweep_store.missing() if sweep_store is not None else list(spec.chunks())
-    result = None if sweep_store is not None else np.full(spec.shape, np.nan)
+    # Connect first: a scheduler that cannot be reached leaves no store behind.
+    with dask_client(scheduler, workers) as client:
+        sweep_store = SweepStore(store, spec) if store is not None else None
+        todo = sweep_store.missing() if sweep_store is not None else list(spec.chunks())
+        result = None if sweep_store is not None else np.full(spec.shape, np.nan)
 
-    def save(key, block):
-        if sweep_store is not None:
-            sweep_store.write(key, block)
-        else:
-            result[spec.region(key)] = block
+        def save(key, block):
+            if sweep_store is not None:
+                sweep_store.write(key, block)
+            else:
+                result[spec.region(key)] = block
 
-    with _progress(spec.n_chunks, spec.n_chunks - len(todo), progress) as bar:
-        with dask_client(scheduler, workers) as client:
+        with _progress(spec.n_chunks, spec.n_chunks - len(todo), progress) as bar:
             if client is None:
                 for key in todo:
                     save(key, compute_chunk(spec, key))
