@@ -3,7 +3,7 @@
 Job: F = 0.5 N, 0.05 s of physical time (≈ 70 normal periods) from rest at the top, for
 the paper's amplitudes A = y0/3, 2y0/3, y0 and a loss-of-contact case 1.3 y0. Accuracy
 is |x(T) - x_ref(T)| / x_ref(T), the reference being an independent event-driven scipy
-DOP853 integration at rtol 1e-12 (benchmarks/_scipy_reference.py). JIT warm-up is
+DOP853 integration at rtol 1e-12 (tests/validation/scipy_reference.py). JIT warm-up is
 timed separately. Run: python benchmarks/bench_simulate.py
 """
 
@@ -15,9 +15,11 @@ from pathlib import Path
 
 import numpy as np
 
-sys.path.insert(0, str(Path(__file__).resolve().parent))
+# The independent scipy reference lives with the validation tests, which check it.
+sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests" / "validation"))
 
-import _scipy_reference as scipy_ref
+import scipy_reference as scipy_ref
+
 import microslip as ms
 
 DURATION = 0.05

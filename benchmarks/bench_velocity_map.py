@@ -8,7 +8,8 @@ Grid: F in [0.05, 0.95] N × A in [0, 3e-7] m, paper data (default 256 × 256).
    ``mean_velocity_grid`` when the public function is missing);
 2. batched kernel: ``simulate_batch``, RK4 with located switching, 0.05 s per point from
    rest at the top, dt = T0/200, v = x(0.05)/0.05;
-3. scipy ``solve_ivp`` DOP853, rtol 1e-9, event restarts (``_scipy_reference``), on a
+3. scipy ``solve_ivp`` DOP853, rtol 1e-9, event restarts
+   (``tests/validation/scipy_reference.py``), on a
    random sample of grid points, time extrapolated to the grid: the same 0.05 s job,
    and the steady cycle (mean = Δx/Δt between the 2nd and 3rd stick starts);
 4. NumPy RK4 vectorised over the grid with the naive once-per-step stick/slip decision,
@@ -35,10 +36,12 @@ from pathlib import Path
 import numba
 import numpy as np
 
-sys.path.insert(0, str(Path(__file__).resolve().parent))
+# The independent scipy reference lives with the validation tests, which check it.
+sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests" / "validation"))
+
+from scipy_reference import finite_time_mean_velocity, steady_mean_velocity
 
 import microslip
-from _scipy_reference import finite_time_mean_velocity, steady_mean_velocity
 from microslip import Parameters
 from microslip.analysis.steady_state import ORBIT_STEPS, mean_velocity_grid
 from microslip.integrators.batched import simulate_batch, time_grid

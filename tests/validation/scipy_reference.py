@@ -1,28 +1,35 @@
-"""An independent reference integrator for the slider model, written for the tests.
+"""An independent event-driven scipy reference for the slider model.
 
-It shares no code with ``microslip``: it reads only the raw fields of a parameter set
+Used by the validation tests and by the benchmarks (``benchmarks/`` imports it). It
+shares no code with ``microslip``: it reads only the raw fields of a parameter set
 (m, g, S, c_n, m2, μ) and integrates eqs. (2.4)–(2.5) with scipy's DOP853 in the
 natural scales of REFERENCE fact 7,
 
     η = y / y0,  τ = ω t,  ω = sqrt(g / y0),  ξ = x / y0,
     η'' = 1 − r(η),  ξ'' = s (F/(m g) − μ r(η)),  r(η) = max(η, 0)^m2,
 
-(so every state component is of order one and a uniform atol is a per-component atol
-scaled to y0, y0 ω, ... in SI). The friction mode s (1 slip, 0 stick) and the contact
-mode are held fixed on each segment; every switch is a terminal scipy event and the
-integration restarts in the new mode there:
+so every state component is of order one and one absolute tolerance is a per-component
+tolerance scaled by y0, y0 ω, y0, y0 ω in SI. The friction mode (s = 1 slip, 0 stick)
+and the contact mode are fixed on each segment, whose right-hand side is then smooth
+(analytic for m2 = 2, where r = η² is continued past η = 0), so DOP853 keeps its order
+up to the switch. Every switch is a terminal event and the integration restarts in the
+new mode there:
 
 * contact → flight: η = 0 falling;  flight → contact: η = 0 rising;
-* stick → slip: μ|R| − F = 0 falling, i.e. μ r(η) − F/(m g) = 0;
-* slip → stick: ẋ = 0 falling; the slider sticks if F <= μ|R| there (eq. 2.2).
+* stick → slip: μ r(η) − F/(m g) = 0 falling (the stick margin μ|R| − F reaches 0);
+* slip → stick: ξ' = 0 falling; the slider sticks if F <= μ|R| there (eq. 2.2), else it
+  slides on.
 
-Inside a segment the right-hand side is the smooth (analytic for m2 = 2) law of that
-mode, so DOP853 keeps its order up to the switch. Only F >= 0 is supported (then the
-slider never slides backwards, REFERENCE fact 5).
-
-Limitation: like any sign-change event detection (scipy #9228) it can step over a dip of
-μ|R| below F that starts and ends inside one step, so it is meant for forces well away
-from the motion threshold (the tests use F = 0.5 N against thresholds <= 0.44 N).
+Event location by sign change misses a double crossing inside one step (scipy #9228).
+Segments are therefore also split where the switching functions have their extrema: at
+the top of the normal motion (η' = 0 rising: minimum of η and of the stick margin) and,
+while sliding, where the margin falls through zero (minimum of the speed). At a split
+every switching function is checked; one that is past its root there crossed twice
+within a step, and its first root is located (brentq) on a dense-output rerun of the
+segment. The stop event watches ξ' + 1e-15 rather than ξ': right after a release the
+net force is zero to rounding and ξ' may dip to -1e-18 before rising, which must not
+count as a stop (this moves a located stop by ~1e-15 in τ). Only F >= 0 is supported
+(the slider then never slides backwards, REFERENCE fact 5).
 """
 
 from __future__ import annotations
@@ -32,15 +39,18 @@ from dataclasses import dataclass, field
 
 import numpy as np
 from scipy.integrate import solve_ivp
-
-STICK, SLIP = 0, 1
-FLIGHT, CONTACT = 0, 1
+from scipy.optimize import brentq
 
 # Event kinds recorded by the reference.
 CONTACT_LOST = "contact_lost"
 CONTACT_MADE = "contact_made"
 SLIP_START = "slip_start"
 STICK_START = "stick_start"
+_STOP = "stop"  # the slider comes to rest: a stick start, or it slides on
+_SPLIT = "split"  # an extremum of a switching function (not a switch)
+
+_STOP_OFFSET = 1e-15
+_MAX_SEGMENTS = 400_000
 
 
 @dataclass
@@ -67,6 +77,221 @@ def static_deflection(params) -> float:
     return (params.mass * params.g / (params.area * params.c_n)) ** (1.0 / params.m2)
 
 
+class _Model:
+    def __init__(self, params, force: float) -> None:
+        if force < 0.0:
+            raise ValueError("the reference supports force >= 0 only")
+        self.m2 = float(params.m2)
+        self.mu = float(params.mu)
+        self.y0 = static_deflection(params)
+        self.omega = math.sqrt(params.g / self.y0)
+        self.phi = force / (params.mass * params.g)  # F/(m g)
+
+    def r(self, eta: float, contact: bool) -> float:
+        if not contact:
+            return 0.0
+        if self.m2 == 2.0:
+            return eta * eta
+        return max(eta, 0.0) ** self.m2
+
+    def margin(self, eta: float, contact: bool) -> float:
+        """(μ|R| − F)/(m g) at normal position η in the given contact mode."""
+        return self.mu * self.r(eta, contact) - self.phi
+
+    def rhs(self, contact: bool, slip: bool):
+        phi, mu, m2 = self.phi, self.mu, self.m2
+        if contact and m2 == 2.0:
+            if slip:
+                return lambda _t, u: (u[1], 1.0 - u[0] * u[0], u[3], phi - mu * u[0] * u[0])
+            return lambda _t, u: (u[1], 1.0 - u[0] * u[0], 0.0, 0.0)
+        if contact:
+
+            def rhs(_t, u):
+                r = max(u[0], 0.0) ** m2
+                return (u[1], 1.0 - r, u[3], (phi - mu * r) if slip else 0.0)
+
+            return rhs
+        if slip:
+            return lambda _t, u: (u[1], 1.0, u[3], phi)
+        return lambda _t, u: (u[1], 1.0, 0.0, 0.0)
+
+
+def _event(fun, direction: float):
+    def event(_t, u):
+        return fun(u)
+
+    event.terminal = True
+    event.direction = direction
+    return event
+
+
+def _root(event, interpolant, lo: float, hi: float) -> float:
+    """Root of ``event`` along a dense-output interpolant, bracketed by [lo, hi]."""
+    return brentq(
+        lambda t: event(t, interpolant(t)), lo, hi, xtol=1e-15, rtol=4 * np.finfo(float).eps
+    )
+
+
+@dataclass
+class _Run:
+    """Raw output of :func:`_integrate` in natural units."""
+
+    tau: float
+    u: np.ndarray
+    sample_tau: list = field(default_factory=list)
+    sample_u: list = field(default_factory=list)
+    events: list = field(default_factory=list)  # (τ, kind, ξ)
+
+
+def _integrate(
+    model: _Model,
+    amplitude: float,
+    tau_end: float,
+    *,
+    rtol: float,
+    atol: float,
+    tau_eval: np.ndarray | None = None,
+    sticks_wanted: int | None = None,
+) -> _Run:
+    """Integrate from rest at the top, y(0) = y0 − A, to ``tau_end`` or the n-th stick.
+
+    Samples the state at ``tau_eval`` (sorted, within [0, tau_end]) and records every
+    switch as (τ, kind, ξ).
+    """
+    eta = 1.0 - amplitude / model.y0
+    u = np.array([eta, 0.0, 0.0, 0.0])
+    contact = eta >= 0.0  # at η = 0, at rest, η'' = 1 pulls it into contact
+    slip = model.margin(eta, contact) < 0.0
+    period = 2.0 * math.pi / math.sqrt(model.m2)  # small-amplitude normal period in τ
+    tau = 0.0
+    quiet_until = 0.1 * period  # no splits just after a restart at a root of one
+    # (the start is the top of the normal motion)
+    tau_eval = np.empty(0) if tau_eval is None else np.asarray(tau_eval, dtype=float)
+    i_eval = 0
+    run = _Run(tau, u)
+    sticks = segments = 0
+
+    def margin_in_contact(v):
+        return model.margin(v[0], True)
+
+    while tau < tau_end:
+        events, kinds = [], []
+        if contact:
+            events.append(_event(lambda v: v[0], -1.0))
+            kinds.append(CONTACT_LOST)
+        else:
+            events.append(_event(lambda v: v[0], +1.0))
+            kinds.append(CONTACT_MADE)
+        if slip:
+            events.append(_event(lambda v: v[3] + _STOP_OFFSET, -1.0))
+            kinds.append(_STOP)
+        elif contact and model.phi > 0.0:
+            events.append(_event(margin_in_contact, -1.0))
+            kinds.append(SLIP_START)
+        n_switching = len(events)
+        t_bound = tau_end
+        if tau >= quiet_until:
+            events.append(_event(lambda v: v[1], +1.0))
+            kinds.append(_SPLIT)
+            if slip and contact:
+                events.append(_event(margin_in_contact, -1.0))
+                kinds.append(_SPLIT)
+        else:
+            t_bound = min(tau_end, quiet_until)
+        rhs = model.rhs(contact, slip)
+        # Sliding from rest may last a very short time near the motion threshold: start
+        # with a small step so that the speed's return to zero is bracketed, not skipped.
+        first_step = min(1e-6, t_bound - tau) if slip and u[3] == 0.0 else None
+        segment_eval = tau_eval[i_eval:]
+        segment_eval = segment_eval[segment_eval <= t_bound]
+        # With t_eval, scipy returns only those points: add t_bound for the end state.
+        ends_on_sample = segment_eval.size > 0 and segment_eval[-1] == t_bound
+        points = segment_eval if ends_on_sample else np.append(segment_eval, t_bound)
+        sol = solve_ivp(
+            rhs, (tau, t_bound), u, method="DOP853", rtol=rtol, atol=atol, events=events,
+            first_step=first_step, t_eval=points,
+        )  # fmt: skip
+        if sol.status < 0:
+            raise RuntimeError(f"reference integration failed: {sol.message}")
+        segments += 1
+        if segments > _MAX_SEGMENTS:
+            raise RuntimeError("reference integration: too many segments")
+        n_samples = min(np.size(sol.t), segment_eval.size)  # a prefix of ``points``
+        samples_tau = np.asarray(sol.t, dtype=float)[:n_samples]
+        samples_u = np.asarray(sol.y, dtype=float).reshape(4, -1).T[:n_samples]
+        if sol.status == 0:
+            tau, u = t_bound, sol.y[:, -1].copy()
+            run.sample_tau.append(samples_tau)
+            run.sample_u.append(samples_u)
+            i_eval += samples_tau.size
+            continue
+        which = min(
+            (k for k in range(len(events)) if sol.t_events[k].size),
+            key=lambda k: sol.t_events[k][0],
+        )
+        tau_new = float(sol.t_events[which][0])
+        u_new = np.array(sol.y_events[which][0], dtype=float)
+        kind = kinds[which]
+        if kind == _SPLIT:
+            # The segment ends at an extremum: a switching function that is past its
+            # root here crossed twice within one step. Locate its first root.
+            missed = [
+                k
+                for k in range(n_switching)
+                if events[k].direction * (events[k](tau_new, u_new) - events[k](tau, u)) > 0.0
+                and events[k](tau, u) * events[k](tau_new, u_new) < 0.0
+            ]
+            if missed:
+                dense = solve_ivp(
+                    rhs, (tau, tau_new), u, method="DOP853", rtol=rtol, atol=atol,
+                    first_step=first_step, dense_output=True,
+                )  # fmt: skip
+                roots = [_root(events[k], dense.sol, tau, tau_new) for k in missed]
+                first = int(np.argmin(roots))
+                which = missed[first]
+                tau_new = roots[first]
+                u_new = dense.sol(tau_new)
+                kind = kinds[which]
+                keep = samples_tau <= tau_new  # later samples were taken in the old mode
+                samples_tau, samples_u = samples_tau[keep], samples_u[keep]
+        run.sample_tau.append(samples_tau)
+        run.sample_u.append(samples_u)
+        i_eval += samples_tau.size
+        if kind in (SLIP_START, _STOP) and tau_new <= tau:
+            raise RuntimeError(f"reference integration: no progress at τ={tau!r} ({kind})")
+        tau, u = tau_new, u_new
+        if kind == _SPLIT:
+            quiet_until = tau + 0.1 * period
+            continue
+        if kind == CONTACT_LOST:
+            u[0] = 0.0
+            contact = False
+        elif kind == CONTACT_MADE:
+            u[0] = 0.0
+            contact = True
+        elif kind == SLIP_START:
+            slip = True
+            quiet_until = tau + 0.1 * period
+        else:  # the slider has come to rest: stick if F <= μ|R| (eq. 2.2)
+            u[3] = 0.0
+            if model.margin(u[0], contact) >= 0.0:
+                slip = False
+                kind = STICK_START
+            else:
+                kind = None  # touches zero speed and slides on
+        if kind is not None:
+            run.events.append((tau, kind, float(u[2])))
+        if not slip and model.margin(u[0], contact) < 0.0:  # e.g. contact lost while stuck
+            slip = True
+            run.events.append((tau, SLIP_START, float(u[2])))
+        if kind == STICK_START:
+            sticks += 1
+            if sticks_wanted is not None and sticks >= sticks_wanted:
+                break
+    run.tau, run.u = tau, u
+    return run
+
+
 def reference_solution(
     params,
     *,
@@ -80,150 +305,75 @@ def reference_solution(
 
     ``atol`` is in the natural units above (y0 for y and x, y0 ω for the velocities).
     """
-    if force < 0.0:
-        raise ValueError("the reference supports force >= 0 only")
-    m2 = float(params.m2)
-    mu = float(params.mu)
-    y0 = static_deflection(params)
-    omega = math.sqrt(params.g / y0)
-    phi = force / (params.mass * params.g)  # F/(m g)
+    model = _Model(params, force)
     t_eval = np.asarray(t_eval, dtype=float)
-    tau_eval = omega * t_eval
-    tau_end = float(tau_eval[-1])
-
-    if m2 == 2.0:
-
-        def r_contact(eta):
-            return eta * eta  # analytic continuation: smooth up to the located switch
-
-    else:
-
-        def r_contact(eta):
-            return max(eta, 0.0) ** m2
-
-    def rhs_factory(contact, slip):
-        def rhs(_tau, u):
-            r = r_contact(u[0]) if contact == CONTACT else 0.0
-            return [u[1], 1.0 - r, u[3], (phi - mu * r) if slip == SLIP else 0.0]
-
-        return rhs
-
-    def margin(eta, contact):
-        """(μ|R| − F)/(m g) at normal position η in the given contact mode."""
-        r = r_contact(eta) if contact == CONTACT else 0.0
-        return mu * r - phi
-
-    def make_event(fun, direction):
-        def event(_tau, u):
-            return fun(u)
-
-        event.terminal = True
-        event.direction = direction
-        return event
-
-    # Initial state and modes: rest at the top of the normal vibration, x = ẋ = 0.
-    eta = 1.0 - amplitude / y0
-    u = np.array([eta, 0.0, 0.0, 0.0])
-    contact = CONTACT if eta >= 0.0 else FLIGHT  # η = 0 at rest: η'' = 1 pulls into contact
-    slip = STICK if margin(eta, contact) >= 0.0 else SLIP
-
-    out_t, out_u = [], []
-    ev_t, ev_kind, ev_x = [], [], []
-    tau = 0.0
-    i_eval = 0
-    n_segments = 0
-    while tau < tau_end:
-        # Output times not yet written (one at a restart point was written by the segment
-        # that ended there: scipy includes t_eval values up to the event time).
-        segment_eval = tau_eval[i_eval:]
-        events, kinds = [], []
-        if contact == CONTACT:
-            events.append(make_event(lambda u: u[0], -1.0))
-            kinds.append(CONTACT_LOST)
-        else:
-            events.append(make_event(lambda u: u[0], +1.0))
-            kinds.append(CONTACT_MADE)
-        if slip == STICK and phi > 0.0 and contact == CONTACT:
-            events.append(make_event(lambda u: margin(u[0], CONTACT), -1.0))
-            kinds.append(SLIP_START)
-        if slip == SLIP:
-            events.append(make_event(lambda u: u[3], -1.0))
-            kinds.append(STICK_START)
-        # Sliding from rest may last a very short time near the motion threshold: start
-        # with a small step so that the speed's return to zero is bracketed, not skipped.
-        first_step = None
-        if slip == SLIP and u[3] == 0.0:
-            first_step = min(1e-6, tau_end - tau)
-        sol = solve_ivp(
-            rhs_factory(contact, slip),
-            (tau, tau_end),
-            u,
-            method="DOP853",
-            rtol=rtol,
-            atol=atol,
-            events=events,
-            t_eval=segment_eval,
-            first_step=first_step,
-        )
-        if sol.status < 0:
-            raise RuntimeError(f"reference integration failed: {sol.message}")
-        n_segments += 1
-        if n_segments > 100_000:
-            raise RuntimeError("reference integration: too many switches")
-        t_seg = np.asarray(sol.t, dtype=float)
-        if t_seg.size:
-            out_t.append(t_seg)
-            out_u.append(np.asarray(sol.y, dtype=float).T)
-            i_eval += t_seg.size
-        if sol.status == 0:  # reached tau_end
-            break
-        # The earliest terminal event ends the segment.
-        which = min(
-            (k for k in range(len(events)) if sol.t_events[k].size),
-            key=lambda k: sol.t_events[k][0],
-        )
-        tau_new = float(sol.t_events[which][0])
-        u = np.array(sol.y_events[which][0], dtype=float)
-        kind = kinds[which]
-        if tau_new <= tau and kind in (SLIP_START, STICK_START):
-            raise RuntimeError(f"reference integration: no progress at τ={tau!r} ({kind})")
-        tau = tau_new
-        if kind == CONTACT_LOST:
-            u[0] = 0.0
-            contact = FLIGHT
-        elif kind == CONTACT_MADE:
-            u[0] = 0.0
-            contact = CONTACT
-        elif kind == SLIP_START:
-            slip = SLIP
-        else:  # the slider has come to rest: stick if F <= μ|R| (eq. 2.2)
-            u[3] = 0.0
-            if margin(u[0], contact) >= 0.0:
-                slip = STICK
-            else:
-                kind = None  # touches zero speed and slides on
-        if kind is not None:
-            ev_t.append(tau / omega)
-            ev_kind.append(kind)
-            ev_x.append(u[2] * y0)
-        if slip == STICK and margin(u[0], contact) < 0.0:  # e.g. contact lost while stuck
-            slip = SLIP
-            ev_t.append(tau / omega)
-            ev_kind.append(SLIP_START)
-            ev_x.append(u[2] * y0)
-
-    t_out = np.concatenate(out_t) / omega
-    u_out = np.concatenate(out_u)
+    tau_eval = model.omega * t_eval
+    run = _integrate(model, amplitude, float(tau_eval[-1]), rtol=rtol, atol=atol, tau_eval=tau_eval)
+    t_out = np.concatenate(run.sample_tau) / model.omega
+    u_out = np.concatenate(run.sample_u)
     if t_out.size != t_eval.size:
         raise RuntimeError("reference integration: lost output points")
-    vel = y0 * omega
+    y0, vel = model.y0, model.y0 * model.omega
     return Reference(
         t=t_out,
         y=u_out[:, 0] * y0,
         ydot=u_out[:, 1] * vel,
         x=u_out[:, 2] * y0,
         xdot=u_out[:, 3] * vel,
-        event_t=ev_t,
-        event_kind=ev_kind,
-        event_x=ev_x,
+        event_t=[tau / model.omega for tau, _kind, _xi in run.events],
+        event_kind=[kind for _tau, kind, _xi in run.events],
+        event_x=[xi * y0 for _tau, _kind, xi in run.events],
     )
+
+
+def steady_mean_velocity(
+    params,
+    force: float,
+    amplitude: float,
+    *,
+    rtol: float = 1e-12,
+    atol: float | None = None,
+    max_periods: float = 12.0,
+) -> float:
+    """Long-time mean velocity [m/s] from the steady cycle.
+
+    After its first stick the motion is periodic with one stick per normal period
+    (REFERENCE fact 6). The first stop still ends the slide that started at t = 0, at
+    its own phase; from the first release on every cycle is the same, so the mean is
+    Δx/Δt between the second and third stick starts (Δt = one normal period). 0 when
+    the slider never moves (F <= μ S c_n max(y0 - A, 0)^m2); inf if it never sticks.
+    ``atol`` defaults to 1e-3 rtol in the natural units.
+    """
+    model = _Model(params, force)
+    atol = rtol * 1e-3 if atol is None else atol
+    eta_top = 1.0 - amplitude / model.y0
+    if model.margin(eta_top, eta_top >= 0.0) >= 0.0:
+        return 0.0  # stuck at the top, where μ|R| is smallest: stuck for ever
+    period_tau = 2.0 * math.pi / math.sqrt(model.m2)  # small-amplitude normal period
+    run = _integrate(
+        model, amplitude, max_periods * period_tau, rtol=rtol, atol=atol, sticks_wanted=3
+    )
+    sticks = [(tau, xi) for tau, kind, xi in run.events if kind == STICK_START]
+    if len(sticks) < 3:
+        return math.inf
+    (t1, x1), (t2, x2) = sticks[1:3]
+    return (x2 - x1) / (t2 - t1) * model.y0 * model.omega
+
+
+def finite_time_mean_velocity(
+    params,
+    force: float,
+    amplitude: float,
+    duration: float,
+    *,
+    rtol: float = 1e-9,
+    atol: float | None = None,
+) -> float:
+    """x(duration)/duration [m/s] from rest at the top (the time-domain job).
+
+    ``atol`` defaults to 1e-3 rtol in the natural units.
+    """
+    model = _Model(params, force)
+    atol = rtol * 1e-3 if atol is None else atol
+    run = _integrate(model, amplitude, duration * model.omega, rtol=rtol, atol=atol)
+    return float(run.u[2]) * model.y0 / duration
