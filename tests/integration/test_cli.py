@@ -192,3 +192,43 @@ def test_sweep_over_parameters(cli, tmp_path):
     assert float(v.sel(mu=0.12, m2=1.5, force=0.5, amplitude=2e-7)) == ms.mean_velocity(
         p, force=0.5, amplitude=2e-7
     )
+
+
+@pytest.mark.parametrize(
+    ("axes", "force", "amplitude"),
+    [
+        (["--param", "mu=0.08,0.12", "--param", "m2=1.5,2"], "0.1:0.9:5", "0:3e-7:4"),  # panels
+        (["--param", "mu=0.08,0.12"], "0.1:0.9:5", "2e-7"),  # curves against F
+        (["--param", "m2=1.5:2.5:5"], "0.5", "2e-7"),  # curve against a parameter
+        ([], "0.5", "0:3e-7:11"),  # curve against A
+    ],
+    ids=["panels", "curves-F", "curve-m2", "curve-A"],
+)
+def test_sweep_plots(cli, tmp_path, axes, force, amplitude):
+    out, plot = tmp_path / "sweep.nc", tmp_path / "sweep.png"
+    result = cli(
+        "sweep", *axes, "--force", force, "--amplitude", amplitude, "--out", str(out),
+        "--plot", str(plot), "--quiet",
+    )  # fmt: skip
+    assert result.returncode == 0, result.stderr
+    assert plot.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    assert out.exists()
+
+
+@pytest.mark.parametrize(
+    ("axes", "force", "amplitude", "message"),
+    [
+        (["--param", "mu=0.1:0.2:5", "--param", "m2=1:3:6"], "0.1:0.9:5", "0:3e-7:4", "30 maps"),
+        (["--param", "mu=0.1:0.2:13"], "0.5", "0:3e-7:4", "13 curves"),
+        ([], "0.5", "2e-7", "single point"),
+    ],
+    ids=["too-many-maps", "too-many-curves", "single-point"],
+)
+def test_sweep_plot_refused_before_computing(cli, tmp_path, axes, force, amplitude, message):
+    result = cli(
+        "sweep", *axes, "--force", force, "--amplitude", amplitude,
+        "--out", str(tmp_path / "s.nc"), "--plot", str(tmp_path / "s.png"),
+    )  # fmt: skip
+    assert result.returncode == 2
+    assert message in result.stderr and "Traceback" not in result.stderr
+    assert list(tmp_path.iterdir()) == []

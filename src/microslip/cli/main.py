@@ -263,8 +263,14 @@ def cmd_sweep(args: argparse.Namespace) -> int:
     axes = _sweep_axes(param_specs) if args.command == "sweep" else {}
     out = check_writable(opts["out"], (".nc", ".zarr"))
     plot = check_writable(opts["plot"], (".png", ".pdf", ".svg")) if "plot" in opts else None
-    if plot is not None and axes:
-        raise CliError("--plot draws a (force, amplitude) map; it needs a sweep without --param")
+    if plot is not None:  # refuse a plot that cannot be drawn before computing anything
+        from microslip.plotting.velocity_map import sweep_plot_kind
+
+        sizes = {name: len(values) for name, values in axes.items()}
+        try:
+            sweep_plot_kind({**sizes, "force": len(forces), "amplitude": len(amplitudes)})
+        except ValueError as error:
+            raise CliError(str(error)) from None
     workers = opts.get("workers")
     if workers is not None and (not isinstance(workers, int) or workers < 1):
         raise CliError(f"--workers must be an integer >= 1, got {workers!r}")

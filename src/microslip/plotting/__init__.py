@@ -1,4 +1,4 @@
-"""Plots of the model: the paper's Figs. 2–6 with the data behind them."""
+"""Plots of the model: the paper's Figs. 2–7 with the data behind them, and sweep plots."""
 
 from microslip.plotting.paper import (
     FIGURES,
@@ -9,6 +9,7 @@ from microslip.plotting.paper import (
     figure6,
     write_paper_figures,
 )
+from microslip.plotting.velocity_map import sweep_figure, velocity_map_figure
 
 __all__ = [
     "FIGURES",
@@ -17,5 +18,7 @@ __all__ = [
     "figure4",
     "figure5",
     "figure6",
+    "sweep_figure",
+    "velocity_map_figure",
     "write_paper_figures",
 ]

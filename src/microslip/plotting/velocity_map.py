@@ -1,7 +1,10 @@
-"""Fig. 7: the mean sliding velocity over tangential force and vibration amplitude."""
+"""Fig. 7: the mean sliding velocity over tangential force and vibration amplitude,
+and plots of any sweep of it (maps per swept parameter value, or curves)."""
 
 from __future__ import annotations
 
+import math
+from collections.abc import Mapping
 from pathlib import Path
 
 import numpy as np
@@ -10,7 +13,11 @@ from matplotlib.figure import Figure
 from matplotlib.ticker import MaxNLocator
 
 from microslip.io.output import write_atomically
-from microslip.model.parameters import Parameters
+from microslip.model.parameters import PARAMETER_UNITS, Parameters
+
+MAX_PANELS = 24  # maps in one sweep plot
+MAX_CURVES = 12  # curves in one sweep plot
+_INPUTS = ("force", "amplitude")
 
 
 def velocity_map_figure(ds: xr.Dataset, params: Parameters | None = None) -> Figure:
@@ -45,6 +52,7 @@ def velocity_map_figure(ds: xr.Dataset, params: Parameters | None = None) -> Fig
     boundary = [params.motion_threshold(a * 1e-6) for a in amp_line]
     ax.plot(boundary, amp_line, color="white", lw=2.0, label="no-sliding boundary (analytic)")
     ax.axhline(y0_um, color="tab:red", lw=1.5, ls="--", label="A = y0 (loss of contact above)")
+    _mark_no_steady_state(ax, params, forces)
     ax.set_xlim(forces.min(), forces.max())
     ax.set_ylim(amps_um.min(), amps_um.max())
     ax.set_xlabel("tangential force F [N]")
@@ -57,10 +65,172 @@ def velocity_map_figure(ds: xr.Dataset, params: Parameters | None = None) -> Fig
     return fig
 
 
+def sweep_plot_kind(sizes: Mapping[str, int]) -> str:
+    """How a sweep with these dimension sizes is drawn, or ValueError saying why it cannot.
+
+    "map": the Fig. 7 layout (F and A vary, no swept parameter takes two values);
+    "panels": one filled-contour map per value of one or two swept parameters;
+    "curves": v against the one input that varies (F, else A, else the first swept
+    parameter), one curve per combination of the other varying dimensions.
+    """
+    varying = [name for name, size in sizes.items() if size >= 2]
+    params = [name for name in varying if name not in _INPUTS]
+    if sizes.get("force", 1) >= 2 and sizes.get("amplitude", 1) >= 2:
+        if not params:
+            return "map"
+        panels = math.prod(sizes[name] for name in params)
+        if len(params) > 2 or panels > MAX_PANELS:
+            raise ValueError(
+                f"--plot: a sweep over {', '.join(params)} gives {panels} maps; at most 2 "
+                f"swept parameters and {MAX_PANELS} maps can be drawn (plot a slice instead)"
+            )
+        return "panels"
+    if not varying:
+        raise ValueError("--plot: the sweep has a single point; there is nothing to draw")
+    curves = math.prod(sizes[name] for name in varying) // sizes[_curve_axis(varying)]
+    if curves > MAX_CURVES:
+        raise ValueError(
+            f"--plot: v against {_curve_axis(varying)} gives {curves} curves; at most "
+            f"{MAX_CURVES} can be drawn (sweep fewer values or plot a slice instead)"
+        )
+    return "curves"
+
+
+def _curve_axis(varying: list[str]) -> str:
+    for name in _INPUTS:
+        if name in varying:
+            return name
+    return varying[0]
+
+
+def _params_at(ds: xr.Dataset, base: Parameters, selection: Mapping[str, int]) -> Parameters:
+    """``base`` with the swept fields set to their values at ``selection`` (indices)."""
+    changes = {name: float(ds[name].values[i]) for name, i in selection.items()}
+    return base.replace(**changes) if changes else base
+
+
+def _value_text(ds: xr.Dataset, name: str, index: int) -> str:
+    """ "name = value unit" for one coordinate value (no unit for dimensionless fields)."""
+    unit = ds[name].attrs.get("units", "")
+    text = f"{name} = {float(ds[name].values[index]):.4g}"
+    return text if unit in ("", "1") else f"{text} {unit}"
+
+
+def _mark_no_steady_state(ax, params: Parameters, forces: np.ndarray) -> None:
+    """Hatch F >= μ m g, where the slider accelerates for ever (no mean velocity)."""
+    limit = params.static_friction_force
+    if limit < forces.max():
+        ax.axvspan(max(limit, forces.min()), forces.max(), facecolor="none", hatch="//",
+                   edgecolor="0.6", linewidth=0.0, label="F ≥ μ m g: no steady state")  # fmt: skip
+        ax.axvline(limit, color="0.3", lw=1.0, ls=":")
+
+
+def _axis_label(ds: xr.Dataset, name: str) -> tuple[str, float]:
+    """Axis label with unit, and the factor from SI to the plotted unit."""
+    if name == "force":
+        return "tangential force F [N]", 1.0
+    if name == "amplitude":
+        return "vibration amplitude A [µm]", 1e6
+    return f"{name} [{PARAMETER_UNITS.get(name, ds[name].attrs.get('units', '1'))}]", 1.0
+
+
+def _panels_figure(ds: xr.Dataset, params: Parameters) -> Figure:
+    """One map v(F, A) per value (combination) of the swept parameters, one color scale."""
+    swept = [d for d in ds["mean_velocity"].dims if d not in _INPUTS and ds.sizes[d] >= 2]
+    fixed = {d: 0 for d in ds["mean_velocity"].dims if d not in _INPUTS and ds.sizes[d] == 1}
+    n_cols = ds.sizes[swept[0]]
+    n_rows = ds.sizes[swept[1]] if len(swept) == 2 else 1
+    v_all = ds["mean_velocity"].values
+    finite = v_all[np.isfinite(v_all)]
+    top = finite.max() * 1e4 if finite.size and finite.max() > 0 else 1.0
+    levels = MaxNLocator(nbins=20).tick_values(0.0, top)
+    forces = ds["force"].values
+    amps_um = ds["amplitude"].values * 1e6
+    fig = Figure(figsize=(3.6 * n_cols + 1.2, 3.0 * n_rows + 0.6), layout="constrained")
+    axes = np.atleast_2d(fig.subplots(n_rows, n_cols, sharex=True, sharey=True, squeeze=False))
+    filled = None
+    for row in range(n_rows):
+        for col in range(n_cols):
+            selection = {**fixed, swept[0]: col}
+            if len(swept) == 2:
+                selection[swept[1]] = row
+            ax = axes[row, col]
+            panel_params = _params_at(ds, params, selection)
+            v = ds["mean_velocity"].isel(selection).transpose("amplitude", "force").values
+            values = np.where(np.isfinite(v), v, np.nan) * 1e4
+            filled = ax.contourf(forces, amps_um, values, levels=levels, cmap="viridis")
+            amp_line = np.linspace(amps_um.min(), amps_um.max(), 200)
+            boundary = [panel_params.motion_threshold(a * 1e-6) for a in amp_line]
+            ax.plot(boundary, amp_line, color="white", lw=1.5)
+            y0_um = panel_params.static_deflection * 1e6
+            if amps_um.min() <= y0_um <= amps_um.max():
+                ax.axhline(y0_um, color="tab:red", lw=1.2, ls="--")
+            ax.set_xlim(forces.min(), forces.max())
+            ax.set_ylim(amps_um.min(), amps_um.max())
+            _mark_no_steady_state(ax, panel_params, forces)
+            ax.set_title(", ".join(_value_text(ds, d, selection[d]) for d in swept), fontsize=9)
+            if row == n_rows - 1:
+                ax.set_xlabel("F [N]")
+            if col == 0:
+                ax.set_ylabel("A [µm]")
+    fig.colorbar(filled, ax=axes, label="v [10⁻⁴ m/s]")
+    fig.suptitle(
+        "mean sliding velocity v(F, A); white: no-sliding boundary; red dashed: A = y0; "
+        "hatched: F ≥ μ m g (no steady state)",
+        fontsize=10,
+    )
+    return fig
+
+
+def _curves_figure(ds: xr.Dataset, params: Parameters) -> Figure:
+    """v against the one varying input, one curve per combination of the others."""
+    v = ds["mean_velocity"]
+    varying = [d for d in v.dims if ds.sizes[d] >= 2]
+    x_name = _curve_axis(varying)
+    others = [d for d in varying if d != x_name]
+    x_label, x_scale = _axis_label(ds, x_name)
+    fig = Figure(figsize=(7.5, 4.8), layout="constrained")
+    ax = fig.add_subplot()
+    for index in np.ndindex(*(ds.sizes[d] for d in others)):
+        selection = {d: 0 for d in v.dims if d != x_name}
+        selection.update(dict(zip(others, index, strict=True)))
+        curve = v.isel(selection).values
+        label = ", ".join(_value_text(ds, d, i) for d, i in zip(others, index, strict=True))
+        ax.plot(ds[x_name].values * x_scale, curve * 1e6, marker=".", label=label or None)
+    ax.set_xlabel(x_label)
+    ax.set_ylabel("mean sliding velocity v [µm/s]")
+    fixed = [d for d in v.dims if ds.sizes[d] == 1]
+    note = "points with F ≥ μ m g (no steady state) are not drawn"
+    ax.set_title("; ".join([*(_value_text(ds, d, 0) for d in fixed), note]), fontsize=9)
+    if others:
+        ax.legend(fontsize=8)
+    ax.grid(alpha=0.3)
+    return fig
+
+
+def sweep_figure(ds: xr.Dataset | xr.DataArray, params: Parameters | None = None) -> Figure:
+    """The picture of a sweep result (see :func:`sweep_plot_kind`).
+
+    ``ds``: the Dataset of ``run_sweep``/``microslip sweep --out``, or the
+    ``mean_velocity`` [m/s] DataArray of :func:`microslip.sweep`; ``params`` holds the
+    fields that were not swept (paper's data by default).
+    """
+    params = Parameters() if params is None else params
+    if isinstance(ds, xr.DataArray):
+        ds = ds.to_dataset(name="mean_velocity")
+    kind = sweep_plot_kind(dict(ds["mean_velocity"].sizes))
+    if kind == "map":
+        fixed = {d: 0 for d in ds["mean_velocity"].dims if d not in _INPUTS}
+        return velocity_map_figure(ds.isel(fixed), _params_at(ds, params, fixed))
+    if kind == "panels":
+        return _panels_figure(ds, params)
+    return _curves_figure(ds, params)
+
+
 def write_velocity_map_plot(
     ds: xr.Dataset, path: str | Path, params: Parameters | None = None, dpi: int = 150
 ) -> Path:
-    """Render :func:`velocity_map_figure` to ``path`` (PNG, PDF or SVG), atomically."""
-    fig = velocity_map_figure(ds, params)
+    """Render :func:`sweep_figure` to ``path`` (PNG, PDF or SVG), atomically."""
+    fig = sweep_figure(ds, params)
     suffix = Path(path).suffix
     return write_atomically(path, lambda tmp: fig.savefig(tmp, dpi=dpi, format=suffix.lstrip(".")))
