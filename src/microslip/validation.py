@@ -49,5 +49,7 @@ def real_array(name: str, values: Any) -> np.ndarray:
         raise ValueError(f"{name} must not be empty")
     bad = ~np.isfinite(array)
     if bad.any():
-        raise ValueError(f"{name} must be finite, got {array[bad][0]!r} at index {np.argmax(bad)}")
+        raise ValueError(
+            f"{name} must be finite, got {float(array[bad][0])!r} at index {np.argmax(bad)}"
+        )
     return array

@@ -1,6 +1,7 @@
 """The command line as a user sees it: outputs, units, and every error path (exit 2)."""
 
 import json
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -129,6 +130,18 @@ def test_unwritable_output_leaves_nothing(cli, tmp_path):
     )  # fmt: skip
     assert result.returncode == 2 and "suffix" in result.stderr
     assert list(tmp_path.iterdir()) == []
+
+
+@pytest.mark.skipif(not Path("/proc/self").is_dir(), reason="needs Linux /proc")
+@pytest.mark.parametrize("command", ["simulate", "map"])
+def test_directory_that_refuses_files(cli, command):
+    # /proc exists and passes os.access for root, but no file can be created in it.
+    args = ["--force", "0.5", "--amplitude", "1e-7", "--out", "/proc/microslip-run.nc"]
+    if command == "simulate":
+        args += ["--duration", "0.001"]
+    result = cli(command, *args)
+    assert result.returncode == 2
+    assert "'/proc' is not writable" in result.stderr and "Traceback" not in result.stderr
 
 
 BAD_MAP = [

@@ -493,7 +493,7 @@ def simulate_batch(
     if stalled.size:
         i = int(stalled[0])
         raise RuntimeError(
-            f"switching stalled in trajectory {i} at t={times[i]!r} s: more than "
+            f"switching stalled in trajectory {i} at t={float(times[i])!r} s: more than "
             f"{MAX_SWITCHES_PER_STEP} switches without progress (inconsistent friction law?)"
         )
     return BatchResult(

@@ -87,12 +87,12 @@ def integrate(
             break
         if status == kernel.STALLED:
             raise RuntimeError(
-                f"switching stalled at t={carry[kernel.C_T]!r} s: more than 64 switches "
+                f"switching stalled at t={float(carry[kernel.C_T])!r} s: more than 64 switches "
                 "without progress (inconsistent friction law?)"
             )
         if status == kernel.STEP_UNDERFLOW:
             raise RuntimeError(
-                f"step size underflow at t={carry[kernel.C_T]!r} s; loosen rtol/atol"
+                f"step size underflow at t={float(carry[kernel.C_T])!r} s; loosen rtol/atol"
             )
     return RawTrajectory(
         t=np.concatenate(t_parts),

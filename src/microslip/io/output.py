@@ -20,8 +20,14 @@ def check_writable(path: str | Path, suffixes: tuple[str, ...] | None = None) ->
     parent = path.parent if str(path.parent) else Path(".")
     if not parent.is_dir():
         raise ValueError(f"output {str(path)!r}: directory {str(parent)!r} does not exist")
-    if not os.access(parent, os.W_OK):
-        raise ValueError(f"output {str(path)!r}: directory {str(parent)!r} is not writable")
+    try:  # os.access is not enough (read-only mounts, /proc, root); try a real file
+        handle, probe = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".probe", dir=parent)
+        os.close(handle)
+        os.unlink(probe)
+    except OSError as error:
+        raise ValueError(
+            f"output {str(path)!r}: directory {str(parent)!r} is not writable ({error.strerror})"
+        ) from None
     if path.is_dir() and path.suffix.lower() != ".zarr":
         raise ValueError(f"output {str(path)!r} is a directory")
     return path

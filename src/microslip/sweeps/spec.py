@@ -80,10 +80,12 @@ class SweepSpec:
             param_axes.append((name, tuple(float(v) for v in array)))
         forces = check.real_array("force", forces)
         if np.any(forces < 0):
-            raise ValueError(f"force must be >= 0 N, got {forces[forces < 0][0]!r}")
+            raise ValueError(f"force must be >= 0 N, got {float(forces[forces < 0][0])!r}")
         amplitudes = check.real_array("amplitude", amplitudes)
         if np.any(amplitudes < 0):
-            raise ValueError(f"amplitude must be >= 0 m, got {amplitudes[amplitudes < 0][0]!r}")
+            raise ValueError(
+                f"amplitude must be >= 0 m, got {float(amplitudes[amplitudes < 0][0])!r}"
+            )
         duration = check.real("duration", duration, minimum=0.0, strict=True)
         if dt is not None:
             dt = check.real("dt", dt, minimum=0.0, strict=True)
