@@ -46,7 +46,7 @@ The vector tests, for a step of length h from s0 = (y0, ẏ0, x0, ẋ0) to s1:
   point, as ``integrate_chunk`` allows) always goes to the scalar loop.
 
 On the paper's data a lane is flagged about once per switch (release, stop, loss and
-return of contact); redoing a flagged step costs ~0.6 µs (the locating), ~150 times
+return of contact); redoing a flagged step costs ~0.45 µs (the locating), ~100 times
 a vectorised lane-step.
 """
 
