@@ -13,11 +13,44 @@ from matplotlib.figure import Figure
 from matplotlib.ticker import MaxNLocator
 
 from microslip.io.output import write_atomically
-from microslip.model.parameters import PARAMETER_UNITS, Parameters
+from microslip.model.parameters import Parameters
 
 MAX_PANELS = 24  # maps in one sweep plot
 MAX_CURVES = 12  # curves in one sweep plot
 _INPUTS = ("force", "amplitude")
+
+
+def _map_values(v: xr.DataArray) -> np.ndarray:
+    """v(F, A) as an (amplitude, force) array in 10⁻⁴ m/s, NaN where v is not finite."""
+    values = v.transpose("amplitude", "force").values
+    return np.where(np.isfinite(values), values, np.nan) * 1e4
+
+
+def _velocity_levels(values: np.ndarray) -> np.ndarray:
+    """Contour levels [10⁻⁴ m/s] from 0 to the largest finite value."""
+    finite = values[np.isfinite(values)]
+    top = finite.max() if finite.size and finite.max() > 0 else 1.0
+    return MaxNLocator(nbins=20).tick_values(0.0, top)
+
+
+def _map_panel(ax, v: xr.DataArray, params: Parameters, levels: np.ndarray):
+    """Filled contours of v(F, A) with the analytic no-sliding boundary
+    F = μ S c_n max(y0 - A, 0)^m2, the contact-loss line A = y0 and F >= μ m g hatched.
+    Returns the contour set (for a colorbar)."""
+    forces = v["force"].values
+    amps_um = v["amplitude"].values * 1e6
+    filled = ax.contourf(forces, amps_um, _map_values(v), levels=levels, cmap="viridis")
+    amp_line = np.linspace(amps_um.min(), amps_um.max(), 400)
+    boundary = [params.motion_threshold(a * 1e-6) for a in amp_line]
+    ax.plot(boundary, amp_line, color="white", lw=2.0, label="no-sliding boundary (analytic)")
+    ax.axhline(
+        params.static_deflection * 1e6, color="tab:red", lw=1.5, ls="--",
+        label="A = y0 (loss of contact above)",
+    )  # fmt: skip
+    _mark_no_steady_state(ax, params, forces)
+    ax.set_xlim(forces.min(), forces.max())
+    ax.set_ylim(amps_um.min(), amps_um.max())
+    return filled
 
 
 def velocity_map_figure(ds: xr.Dataset, params: Parameters | None = None) -> Figure:
@@ -27,15 +60,12 @@ def velocity_map_figure(ds: xr.Dataset, params: Parameters | None = None) -> Fig
     v = ds["mean_velocity"]
     if set(v.dims) != {"force", "amplitude"}:
         raise ValueError(f"a velocity map needs dims (force, amplitude), got {v.dims}")
-    v = v.transpose("amplitude", "force")
     forces = ds["force"].values
-    amps_um = ds["amplitude"].values * 1e6
-    values = np.where(np.isfinite(v.values), v.values, np.nan) * 1e4  # [1e-4 m/s]
-    y0_um = params.static_deflection * 1e6
+    values = _map_values(v)
 
     fig = Figure(figsize=(12.0, 5.2), layout="constrained")
     ax3 = fig.add_subplot(1, 2, 1, projection="3d")
-    ff, aa = np.meshgrid(forces, amps_um)
+    ff, aa = np.meshgrid(forces, ds["amplitude"].values * 1e6)
     ax3.plot_surface(ff, aa, values, cmap="viridis", linewidth=0, antialiased=True)
     ax3.set_xlabel("F [N]")
     ax3.set_ylabel("A [µm]")
@@ -44,22 +74,14 @@ def velocity_map_figure(ds: xr.Dataset, params: Parameters | None = None) -> Fig
     ax3.set_title("(a) mean sliding velocity v(F, A)")
 
     ax = fig.add_subplot(1, 2, 2)
-    top = np.nanmax(values) if np.isfinite(np.nanmax(values)) and np.nanmax(values) > 0 else 1.0
-    levels = MaxNLocator(nbins=20).tick_values(0.0, top)
-    filled = ax.contourf(forces, amps_um, values, levels=levels, cmap="viridis")
+    filled = _map_panel(ax, v, params, _velocity_levels(values))
     fig.colorbar(filled, ax=ax, label="v [10⁻⁴ m/s]")
-    amp_line = np.linspace(0.0, amps_um.max(), 400)
-    boundary = [params.motion_threshold(a * 1e-6) for a in amp_line]
-    ax.plot(boundary, amp_line, color="white", lw=2.0, label="no-sliding boundary (analytic)")
-    ax.axhline(y0_um, color="tab:red", lw=1.5, ls="--", label="A = y0 (loss of contact above)")
-    _mark_no_steady_state(ax, params, forces)
-    ax.set_xlim(forces.min(), forces.max())
-    ax.set_ylim(amps_um.min(), amps_um.max())
     ax.set_xlabel("tangential force F [N]")
     ax.set_ylabel("vibration amplitude A [µm]")
     ax.set_title(
         f"(b) v(F, A); μ = {params.mu:.3g}, F_t0 = μ m g = {params.static_friction_force:.3g} N"
     )
+    y0_um = params.static_deflection * 1e6
     ax.text(0.05 * forces.max() + 0.95 * forces.min(), 0.08 * y0_um, "no sliding", color="white")
     ax.legend(loc="upper right", fontsize=8, framealpha=0.8)
     return fig
@@ -87,10 +109,11 @@ def sweep_plot_kind(sizes: Mapping[str, int]) -> str:
         return "panels"
     if not varying:
         raise ValueError("--plot: the sweep has a single point; there is nothing to draw")
-    curves = math.prod(sizes[name] for name in varying) // sizes[_curve_axis(varying)]
+    x_name = _curve_axis(varying)
+    curves = math.prod(sizes[name] for name in varying) // sizes[x_name]
     if curves > MAX_CURVES:
         raise ValueError(
-            f"--plot: v against {_curve_axis(varying)} gives {curves} curves; at most "
+            f"--plot: v against {x_name} gives {curves} curves; at most "
             f"{MAX_CURVES} can be drawn (sweep fewer values or plot a slice instead)"
         )
     return "curves"
@@ -105,8 +128,7 @@ def _curve_axis(varying: list[str]) -> str:
 
 def _params_at(ds: xr.Dataset, base: Parameters, selection: Mapping[str, int]) -> Parameters:
     """``base`` with the swept fields set to their values at ``selection`` (indices)."""
-    changes = {name: float(ds[name].values[i]) for name, i in selection.items()}
-    return base.replace(**changes) if changes else base
+    return base.replace(**{name: float(ds[name].values[i]) for name, i in selection.items()})
 
 
 def _value_text(ds: xr.Dataset, name: str, index: int) -> str:
@@ -131,43 +153,26 @@ def _axis_label(ds: xr.Dataset, name: str) -> tuple[str, float]:
         return "tangential force F [N]", 1.0
     if name == "amplitude":
         return "vibration amplitude A [µm]", 1e6
-    return f"{name} [{PARAMETER_UNITS.get(name, ds[name].attrs.get('units', '1'))}]", 1.0
+    return f"{name} [{ds[name].attrs.get('units', '1')}]", 1.0
 
 
 def _panels_figure(ds: xr.Dataset, params: Parameters) -> Figure:
     """One map v(F, A) per value (combination) of the swept parameters, one color scale."""
-    swept = [d for d in ds["mean_velocity"].dims if d not in _INPUTS and ds.sizes[d] >= 2]
-    fixed = {d: 0 for d in ds["mean_velocity"].dims if d not in _INPUTS and ds.sizes[d] == 1}
+    v = ds["mean_velocity"]
+    swept = [d for d in v.dims if d not in _INPUTS and ds.sizes[d] >= 2]
+    fixed = {d: 0 for d in v.dims if d not in _INPUTS and ds.sizes[d] == 1}
     n_cols = ds.sizes[swept[0]]
     n_rows = ds.sizes[swept[1]] if len(swept) == 2 else 1
-    v_all = ds["mean_velocity"].values
-    finite = v_all[np.isfinite(v_all)]
-    top = finite.max() * 1e4 if finite.size and finite.max() > 0 else 1.0
-    levels = MaxNLocator(nbins=20).tick_values(0.0, top)
-    forces = ds["force"].values
-    amps_um = ds["amplitude"].values * 1e6
+    levels = _velocity_levels(v.values * 1e4)
     fig = Figure(figsize=(3.6 * n_cols + 1.2, 3.0 * n_rows + 0.6), layout="constrained")
-    axes = np.atleast_2d(fig.subplots(n_rows, n_cols, sharex=True, sharey=True, squeeze=False))
-    filled = None
+    axes = fig.subplots(n_rows, n_cols, sharex=True, sharey=True, squeeze=False)
     for row in range(n_rows):
         for col in range(n_cols):
             selection = {**fixed, swept[0]: col}
             if len(swept) == 2:
                 selection[swept[1]] = row
             ax = axes[row, col]
-            panel_params = _params_at(ds, params, selection)
-            v = ds["mean_velocity"].isel(selection).transpose("amplitude", "force").values
-            values = np.where(np.isfinite(v), v, np.nan) * 1e4
-            filled = ax.contourf(forces, amps_um, values, levels=levels, cmap="viridis")
-            amp_line = np.linspace(amps_um.min(), amps_um.max(), 200)
-            boundary = [panel_params.motion_threshold(a * 1e-6) for a in amp_line]
-            ax.plot(boundary, amp_line, color="white", lw=1.5)
-            y0_um = panel_params.static_deflection * 1e6
-            if amps_um.min() <= y0_um <= amps_um.max():
-                ax.axhline(y0_um, color="tab:red", lw=1.2, ls="--")
-            ax.set_xlim(forces.min(), forces.max())
-            ax.set_ylim(amps_um.min(), amps_um.max())
-            _mark_no_steady_state(ax, panel_params, forces)
+            filled = _map_panel(ax, v.isel(selection), _params_at(ds, params, selection), levels)
             ax.set_title(", ".join(_value_text(ds, d, selection[d]) for d in swept), fontsize=9)
             if row == n_rows - 1:
                 ax.set_xlabel("F [N]")
