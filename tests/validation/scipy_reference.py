@@ -219,19 +219,16 @@ def _integrate(
         n_samples = min(np.size(sol.t), segment_eval.size)  # a prefix of ``points``
         samples_tau = np.asarray(sol.t, dtype=float)[:n_samples]
         samples_u = np.asarray(sol.y, dtype=float).reshape(4, -1).T[:n_samples]
-        if sol.status == 0:
-            tau, u = t_bound, sol.y[:, -1].copy()
-            run.sample_tau.append(samples_tau)
-            run.sample_u.append(samples_u)
-            i_eval += samples_tau.size
-            continue
-        which = min(
-            (k for k in range(len(events)) if sol.t_events[k].size),
-            key=lambda k: sol.t_events[k][0],
-        )
-        tau_new = float(sol.t_events[which][0])
-        u_new = np.array(sol.y_events[which][0], dtype=float)
-        kind = kinds[which]
+        if sol.status == 0:  # reached t_bound: no switch
+            tau_new, u_new, kind = t_bound, sol.y[:, -1].copy(), None
+        else:
+            which = min(
+                (k for k in range(len(events)) if sol.t_events[k].size),
+                key=lambda k: sol.t_events[k][0],
+            )
+            tau_new = float(sol.t_events[which][0])
+            u_new = np.array(sol.y_events[which][0], dtype=float)
+            kind = kinds[which]
         if kind == _SPLIT:
             # The segment ends at an extremum: a switching function that is past its
             # root here crossed twice within one step. Locate its first root.
@@ -257,6 +254,9 @@ def _integrate(
         run.sample_tau.append(samples_tau)
         run.sample_u.append(samples_u)
         i_eval += samples_tau.size
+        if kind is None:
+            tau, u = tau_new, u_new
+            continue
         if kind in (SLIP_START, _STOP) and tau_new <= tau:
             raise RuntimeError(f"reference integration: no progress at τ={tau!r} ({kind})")
         tau, u = tau_new, u_new
