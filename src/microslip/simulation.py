@@ -62,7 +62,8 @@ def simulate(
     params : Parameters, optional
         Model constants; the paper's data by default.
     force : float
-        Constant tangential drive F >= 0 [N] (Sec. 4).
+        Constant tangential drive F [N] (Sec. 4); F < 0 pushes the slider towards -x
+        (backward sliding; with an ``initial_state`` sliding forward, a reversal).
     duration : float
         Simulated time [s] from t = 0; the output ends exactly at ``duration``.
     amplitude : float, optional
@@ -94,7 +95,7 @@ def simulate(
     params = Parameters() if params is None else params
     if not isinstance(params, Parameters):
         raise ValueError(f"params must be a microslip.Parameters, got {type(params).__name__}")
-    force = check.real("force", force, minimum=0.0)
+    force = check.real("force", force)
     duration = check.real("duration", duration, minimum=0.0, strict=True)
     method = check.one_of("method", method, ("event", "rk4"))
     save_every = check.positive_int("save_every", save_every)

@@ -20,7 +20,6 @@ def run(**changes):
 @pytest.mark.parametrize(
     ("changes", "name", "value"),
     [
-        ({"force": -0.1}, "force", "-0.1"),
         ({"force": math.nan}, "force", "nan"),
         ({"force": math.inf}, "force", "inf"),
         ({"duration": -1e-3}, "duration", "-0.001"),

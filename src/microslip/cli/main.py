@@ -344,7 +344,7 @@ def build_parser() -> argparse.ArgumentParser:
     info.set_defaults(handler=cmd_info)
 
     sim = sub.add_parser("simulate", help="simulate one trajectory")
-    sim.add_argument("--force", type=_finite("--force"), help="tangential force F [N] (>= 0)")
+    sim.add_argument("--force", type=_finite("--force"), help="tangential force F [N] (< 0 pushes towards -x)")
     start = sim.add_mutually_exclusive_group()
     start.add_argument("--amplitude", type=_finite("--amplitude"), help="A = y0 - y_min [m]")
     start.add_argument(
