@@ -6,17 +6,22 @@ from collections.abc import Sequence
 
 import numpy as np
 
+from microslip import budget
 from microslip import validation as check
 from microslip.integrators import integrate
 from microslip.model.coefficients import pack
+from microslip.model.contact import potential_energy
 from microslip.model.parameters import Parameters
 from microslip.results import SimulationResult
+from microslip.validation import DEFAULT_RK4_STEPS_PER_PERIOD, RK4_MAX_STEP_FRACTION
 
-__all__ = ["RK4_MAX_STEP_FRACTION", "initial_state_from_amplitude", "simulate"]
+__all__ = [
+    "DEFAULT_RK4_STEPS_PER_PERIOD",
+    "RK4_MAX_STEP_FRACTION",
+    "initial_state_from_amplitude",
+    "simulate",
+]
 
-# An RK4 step must resolve the contact vibration: at most this fraction of T0 = 1/f0.
-RK4_MAX_STEP_FRACTION = 0.1
-DEFAULT_RK4_STEPS_PER_PERIOD = 200
 # Defaults of the event method: x(t) within ~5e-9 relative of an independent integration.
 DEFAULT_RTOL = 1e-11
 DEFAULT_ATOL = 1e-13
@@ -41,6 +46,29 @@ def natural_tolerances(params: Parameters, atol: float) -> np.ndarray:
     return atol * np.array([y0, y0 * w0, mu * y0, mu * y0 * w0])
 
 
+def _checked_initial_state(params: Parameters, initial_state) -> tuple[float, ...]:
+    """(y, ẏ, x, ẋ) as floats, with a normal motion no larger than A = 1e3 y0."""
+    values = check.real_array("initial_state", initial_state)
+    if values.size != 4:
+        raise ValueError(f"initial_state must be (y, ydot, x, xdot), got {values.size} values")
+    y, ydot = float(values[0]), float(values[1])
+    y0 = params.static_deflection
+    top = y0 - params.max_amplitude
+    # Bound y first so that V(y) = S c_n y^(m2+1)/(m2+1) - m g y stays finite.
+    if abs(y - y0) > params.max_amplitude:
+        raise ValueError(
+            f"initial_state y={y!r} m is farther than 1e3 y0 = {params.max_amplitude:.6g} m "
+            f"from y0 = {y0:.6g} m"
+        )
+    energy = 0.5 * params.mass * ydot * ydot + float(potential_energy(params, y))
+    if energy > float(potential_energy(params, top)):
+        raise ValueError(
+            f"initial_state (y={y!r} m, ydot={ydot!r} m/s) has a normal motion larger than "
+            f"the supported amplitude 1e3 y0 = {params.max_amplitude:.6g} m"
+        )
+    return tuple(float(v) for v in values)
+
+
 def simulate(
     params: Parameters | None = None,
     *,
@@ -54,6 +82,7 @@ def simulate(
     atol: float = DEFAULT_ATOL,
     t_eval: Sequence[float] | np.ndarray | None = None,
     save_every: int = 1,
+    allow_large: bool = False,
 ) -> SimulationResult:
     """Simulate the slider under a constant tangential force.
 
@@ -62,15 +91,19 @@ def simulate(
     params : Parameters, optional
         Model constants; the paper's data by default.
     force : float
-        Constant tangential drive F [N] (Sec. 4); F < 0 pushes the slider towards -x
-        (backward sliding; with an ``initial_state`` sliding forward, a reversal).
+        Constant tangential drive F [N] (Sec. 4), |F| <= ``params.max_force`` = 1e6 m g;
+        F < 0 pushes the slider towards -x (backward sliding; with an ``initial_state``
+        sliding forward, a reversal).
     duration : float
         Simulated time [s] from t = 0; the output ends exactly at ``duration``.
     amplitude : float, optional
-        A = y0 - y_min [m] >= 0: start at rest at the highest point y = y0 - A
-        (the paper's initial conditions). Give this or ``initial_state``.
+        A = y0 - y_min [m] in [0, ``params.max_amplitude`` = 1e3 y0]: start at rest at
+        the highest point y = y0 - A (the paper's initial conditions). Give this or
+        ``initial_state``.
     initial_state : (y [m], ẏ [m/s], x [m], ẋ [m/s]), optional
-        An explicit initial state instead of ``amplitude``.
+        An explicit initial state instead of ``amplitude``; its normal motion must be
+        no larger than that of A = 1e3 y0 (normal energy at most that of rest at
+        y = y0 - 1e3 y0).
     method : {"event", "rk4"}
         ``"event"``: adaptive Dormand–Prince 8(5,3) (DOP853) with every switching instant located
         and the integration restarted there. ``"rk4"``: the paper's fixed-step classical
@@ -87,6 +120,11 @@ def simulate(
     save_every : int
         Without ``t_eval``: keep every n-th step boundary (step ends and switching
         instants), plus t = 0 and t = duration.
+        :func:`microslip.budget.default_save_every` gives the n that bounds the output.
+    allow_large : bool
+        Run even when the estimated run time exceeds 10 minutes or the estimated memory
+        half of the available memory (:mod:`microslip.budget`); otherwise such a run is
+        refused up front with :class:`microslip.budget.WorkLimitError`.
 
     Returns
     -------
@@ -95,7 +133,7 @@ def simulate(
     params = Parameters() if params is None else params
     if not isinstance(params, Parameters):
         raise ValueError(f"params must be a microslip.Parameters, got {type(params).__name__}")
-    force = check.real("force", force)
+    force = check.force(params, force)
     duration = check.real("duration", duration, minimum=0.0, strict=True)
     method = check.one_of("method", method, ("event", "rk4"))
     save_every = check.positive_int("save_every", save_every)
@@ -104,23 +142,16 @@ def simulate(
     if (amplitude is None) == (initial_state is None):
         raise ValueError("give exactly one of amplitude or initial_state")
     if amplitude is not None:
-        amplitude = check.real("amplitude", amplitude, minimum=0.0)
+        amplitude = check.amplitude(params, amplitude)
         state0 = initial_state_from_amplitude(params, amplitude)
     else:
-        values = check.real_array("initial_state", initial_state)
-        if values.size != 4:
-            raise ValueError(f"initial_state must be (y, ydot, x, xdot), got {values.size} values")
-        state0 = tuple(float(v) for v in values)
+        state0 = _checked_initial_state(params, initial_state)
 
     period = params.natural_period
     if method == "rk4":
         dt = period / DEFAULT_RK4_STEPS_PER_PERIOD if dt is None else dt
         dt = check.real("dt", dt, minimum=0.0, strict=True)
-        if dt > RK4_MAX_STEP_FRACTION * period:
-            raise ValueError(
-                f"dt={dt!r} s is too large to resolve the contact vibration "
-                f"(T0 = {period:.4g} s); use dt <= {RK4_MAX_STEP_FRACTION * period:.4g} s"
-            )
+        check.rk4_step(dt, period)
     elif dt is not None:
         raise ValueError("dt applies to method='rk4' only; method='event' adapts its step")
 
@@ -130,6 +161,13 @@ def simulate(
             raise ValueError("t_eval must be non-decreasing")
         if t_eval[0] < 0.0 or t_eval[-1] > duration:
             raise ValueError(f"t_eval must lie in [0, duration={duration!r}] s")
+    if not isinstance(allow_large, bool):
+        raise ValueError(f"allow_large must be True or False, got {allow_large!r}")
+    estimate = budget.estimate_simulation(
+        params, duration=duration, method=method, dt=dt, rtol=rtol,
+        n_t_eval=None if t_eval is None else t_eval.size, save_every=save_every,
+    )  # fmt: skip
+    budget.check(estimate, allow_large=allow_large)
 
     raw = integrate(
         method,

@@ -53,3 +53,49 @@ def real_array(name: str, values: Any) -> np.ndarray:
             f"{name} must be finite, got {float(array[bad][0])!r} at index {np.argmax(bad)}"
         )
     return array
+
+
+# An RK4 step must resolve the contact vibration: at most this fraction of T0 = 1/f0.
+RK4_MAX_STEP_FRACTION = 0.1
+# The default RK4 step dt = T0/200 (simulate, time-domain sweeps, work estimates).
+DEFAULT_RK4_STEPS_PER_PERIOD = 200
+
+
+def rk4_step(dt: float, period: float, *, where: str = "") -> None:
+    """Refuse an RK4 step ``dt`` [s] that does not resolve the normal period ``period`` [s].
+
+    ``dt`` must be <= ``RK4_MAX_STEP_FRACTION`` T0: a coarser step misses the contact
+    vibration and returns meaningless velocities. ``where`` names the parameter set
+    (for sweeps: the one with the shortest T0).
+    """
+    limit = RK4_MAX_STEP_FRACTION * period
+    if dt > limit:
+        raise ValueError(
+            f"dt={dt!r} s is too large to resolve the contact vibration{where} "
+            f"(T0 = {period:.4g} s); use dt <= {limit:.4g} s"
+        )
+
+
+def force(params: Any, value: Any, *, name: str = "force", nonnegative: bool = False) -> float:
+    """A force [N] within ``params.max_force`` = 1e6 m g (and >= 0 if ``nonnegative``)."""
+    value = real(name, value)
+    if nonnegative and value < 0.0:
+        raise ValueError(
+            f"{name} must be >= 0 N here (the steady state is computed for forward "
+            f"sliding only; simulate() accepts F < 0), got {value!r}"
+        )
+    if abs(value) > params.max_force:
+        raise ValueError(
+            f"|{name}|={abs(value)!r} N exceeds the supported 1e6 m g = {params.max_force:.6g} N"
+        )
+    return value
+
+
+def amplitude(params: Any, value: Any, *, name: str = "amplitude") -> float:
+    """An amplitude A = y0 - y_min [m] in [0, ``params.max_amplitude`` = 1e3 y0]."""
+    value = real(name, value, minimum=0.0)
+    if value > params.max_amplitude:
+        raise ValueError(
+            f"{name}={value!r} m exceeds the supported 1e3 y0 = {params.max_amplitude:.6g} m"
+        )
+    return value

@@ -202,3 +202,12 @@ def test_result_is_immutable():
     r = run()
     with pytest.raises(AttributeError):
         r.t = np.zeros(3)  # type: ignore[misc]
+
+
+def test_force_and_amplitude_limits():
+    with pytest.raises(ValueError, match=r"\|force\|=1e\+308 N exceeds"):
+        run(force=-1e308)
+    with pytest.raises(ValueError, match=r"amplitude=1.0 m exceeds the supported 1e3 y0"):
+        run(amplitude=1.0)
+    with pytest.raises(ValueError, match="allow_large"):
+        run(allow_large="yes")

@@ -15,6 +15,12 @@ __all__ = ["free_frequency", "free_period", "normal_energy", "turning_points"]
 ORBIT_STEPS = 512  # table steps per half period at the stiffest point: error ~1e-13
 
 
+def _checked(params: Parameters) -> Parameters:
+    if not isinstance(params, Parameters):
+        raise ValueError(f"params must be a microslip.Parameters, got {type(params).__name__}")
+    return params
+
+
 def _half_orbit(params: Parameters, amplitude: float, steps: int = ORBIT_STEPS):
     c = pack(params, 0.0)
     ys = np.empty(orbit.orbit_capacity(steps))
@@ -26,8 +32,11 @@ def _half_orbit(params: Parameters, amplitude: float, steps: int = ORBIT_STEPS):
 
 
 def turning_points(params: Parameters, amplitude: float) -> tuple[float, float]:
-    """(y_min, y_max) [m] of the free vibration with amplitude A = y0 - y_min [m]."""
-    amplitude = check.real("amplitude", amplitude, minimum=0.0)
+    """(y_min, y_max) [m] of the free vibration with amplitude A = y0 - y_min [m].
+
+    0 <= A <= 1e3 y0 (``params.max_amplitude``).
+    """
+    amplitude = check.amplitude(_checked(params), amplitude)
     y_top = params.static_deflection - amplitude
     if amplitude == 0.0:
         return y_top, y_top
@@ -45,8 +54,9 @@ def free_period(params: Parameters, amplitude: float) -> float:
 
     Twice the time from the highest point (rest) to the lowest, integrated once with
     fixed 5th-order steps (loss of contact in closed form); A = 0 gives T0 = 1/f0.
+    0 <= A <= 1e3 y0 (``params.max_amplitude``).
     """
-    amplitude = check.real("amplitude", amplitude, minimum=0.0)
+    amplitude = check.amplitude(_checked(params), amplitude)
     if amplitude == 0.0:
         return params.natural_period
     _c, _ys, _yds, summary = _half_orbit(params, amplitude)

@@ -167,9 +167,17 @@ class StickSlipCycle:
         return self.slip_distance > 0.0
 
 
+def _checked_params(params: Parameters | None) -> Parameters:
+    params = Parameters() if params is None else params
+    if not isinstance(params, Parameters):
+        raise ValueError(f"params must be a microslip.Parameters, got {type(params).__name__}")
+    return params
+
+
 def _cycle_record(params: Parameters, force: float, amplitude: float) -> np.ndarray:
-    force = check.real("force", force, minimum=0.0)
-    amplitude = check.real("amplitude", amplitude, minimum=0.0)
+    # F >= 0 only: the closed-form cycle assumes forward sliding (module docstring).
+    force = check.force(params, force, nonnegative=True)
+    amplitude = check.amplitude(params, amplitude)
     c = pack(params, force)
     record = np.empty(CY_SIZE)
     if amplitude == 0.0:
@@ -202,9 +210,10 @@ def mean_velocity(params: Parameters | None = None, *, force: float, amplitude: 
     params : Parameters, optional
         Model constants (paper's data by default).
     force : float
-        Constant tangential force F >= 0 [N].
+        Constant tangential force F [N], 0 <= F <= 1e6 m g (``params.max_force``).
     amplitude : float
-        Normal vibration amplitude A = y0 - y_min >= 0 [m].
+        Normal vibration amplitude A = y0 - y_min [m], 0 <= A <= 1e3 y0
+        (``params.max_amplitude``).
 
     Returns
     -------
@@ -212,7 +221,7 @@ def mean_velocity(params: Parameters | None = None, *, force: float, amplitude: 
         0.0 exactly when F <= μ S c_n max(y0 - A, 0)^m2 (the slider never moves);
         ``inf`` with a ``RuntimeWarning`` when F > μ m g (no steady state).
     """
-    params = Parameters() if params is None else params
+    params = _checked_params(params)
     record = _cycle_record(params, force, amplitude)
     if np.isinf(record[CY_MEAN]):
         _warn_unbounded(params, force)
@@ -224,9 +233,10 @@ def stick_slip_cycle(
 ) -> StickSlipCycle:
     """The steady stick–slip cycle at force F [N] and amplitude A [m].
 
-    Raises ``ValueError`` when F > μ m g: the slider then never sticks again.
+    Inputs as for :func:`mean_velocity`. Raises ``ValueError`` when F > μ m g: the
+    slider then never sticks again.
     """
-    params = Parameters() if params is None else params
+    params = _checked_params(params)
     record = _cycle_record(params, force, amplitude)
     if np.isinf(record[CY_MEAN]):
         raise ValueError(

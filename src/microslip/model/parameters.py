@@ -9,11 +9,60 @@ import math
 from dataclasses import asdict, dataclass, field, fields, replace
 from typing import Any
 
-__all__ = ["PARAMETER_UNITS", "Parameters"]
+import numpy as np
+
+__all__ = [
+    "AMPLITUDE_LIMIT_FACTOR",
+    "DERIVED_RANGES",
+    "FIELD_RANGES",
+    "FORCE_LIMIT_FACTOR",
+    "PARAMETER_UNITS",
+    "Parameters",
+    "derived_log10",
+]
+
+# Supported ranges of the fields (SI units), wide enough for any real contact; mu may be
+# 0 (frictionless). c_n has m2-dependent units and is bounded through the derived ranges.
+FIELD_RANGES: dict[str, tuple[float, float]] = {
+    "mass": (1e-9, 1e6),
+    "g": (1e-3, 1e4),
+    "area": (1e-12, 1e4),
+    "m2": (0.1, 20.0),
+    "mu": (0.0, 10.0),
+}
+# Derived quantities: (low, high, unit, description). "S c_n" bounds keep the reaction
+# S c_n y^m2 of (2.3) and its factors finite and normal for y up to the lowest point.
+DERIVED_RANGES: dict[str, tuple[float, float, str, str]] = {
+    "y0": (1e-15, 1e-1, "m", "static deflection"),
+    "f0": (1e-2, 1e8, "Hz", "natural frequency"),
+    "S c_n": (1e-280, 1e280, "N m-m2", "stiffness coefficient"),
+}
+# Forces and amplitudes accepted by the solvers: |F| <= 1e6 m g, A <= 1e3 y0.
+FORCE_LIMIT_FACTOR = 1e6
+AMPLITUDE_LIMIT_FACTOR = 1e3
+
+
+def derived_log10(mass: Any, g: Any, area: Any, c_n: Any, m2: Any) -> dict[str, Any]:
+    """log10 of y0 [m], f0 [Hz], T0 [s] and S c_n, without overflow (arrays broadcast).
+
+    y0 = (m g / (S c_n))^(1/m2) and f0 = sqrt(m2 g / y0) / (2π) (Sec. 3), in logarithms
+    so that any finite positive input gives a finite answer.
+    """
+    log_sc = np.log10(area) + np.log10(c_n)
+    log_y0 = (np.log10(mass) + np.log10(g) - log_sc) / m2
+    log_f0 = 0.5 * (np.log10(m2) + np.log10(g) - log_y0) - math.log10(2.0 * math.pi)
+    return {"y0": log_y0, "f0": log_f0, "T0": -log_f0, "S c_n": log_sc}
 
 
 def _spec(unit: str, description: str, positive: bool = True) -> dict[str, Any]:
     return {"unit": unit, "description": description, "positive": positive}
+
+
+def _power_text(exponent: float) -> str:
+    """10^exponent as text: the number where representable, else 1e<exponent>."""
+    if abs(exponent) < 300.0:
+        return f"{10.0**exponent:.4g}"
+    return f"1e{exponent:.0f}"
 
 
 @dataclass(frozen=True, slots=True)
@@ -34,6 +83,35 @@ class Parameters:
         Interface exponent m2 = 1/m1 of eq. (2.3) [-].
     mu : float
         Coulomb friction coefficient μ of eq. (2.2) [-].
+
+    Notes
+    -----
+    Every field must be a finite real number within a range wide enough for any real
+    contact (``FIELD_RANGES``), and the derived quantities must be physically sensible
+    (``DERIVED_RANGES``), else ``ValueError`` names the culprit:
+
+    ======================  =======================  ======================================
+    quantity                range                    why
+    ======================  =======================  ======================================
+    mass m                  [1e-9, 1e6] kg           a microgram to a thousand tonnes
+    g                       [1e-3, 1e4] m/s^2        microgravity to a centrifuge
+    area S                  [1e-12, 1e4] m^2         a square micrometre to 100 m x 100 m
+    c_n                     > 0, finite              bounded through y0, f0 and S c_n
+    m2                      [0.1, 20]                interface exponent 1/m1 (real: 1-3)
+    mu                      [0, 10]                  Coulomb coefficient
+    y0                      [1e-15, 1e-1] m          static deflection at the working point
+    f0                      [1e-2, 1e8] Hz           small-amplitude normal frequency
+    S c_n                   [1e-280, 1e280]          keeps S c_n y^m2 representable in (2.3)
+    ======================  =======================  ======================================
+
+    The derived quantities are checked in logarithms, so an extreme input is refused
+    with its value instead of overflowing; within these ranges the closed forms below
+    are finite and the compiled kernels never meet inf or a subnormal S c_n. Forces and
+    amplitudes given to the solvers must satisfy |F| <= ``max_force`` = 1e6 m g and
+    A <= ``max_amplitude`` = 1e3 y0. m2 <= 20 keeps the steady-state orbit tables
+    (:mod:`microslip.analysis.orbit`) within their capacity up to A = 1e3 y0 (60 % full
+    at m2 = 20; they overflow near m2 = 30). y0 down to 1e-15 m admits the paper's c_n
+    with m2 = 1 (y0 = 5.1e-14 m).
     """
 
     mass: float = field(default=1.0, metadata=_spec("kg", "slider mass m"))
@@ -59,9 +137,24 @@ class Parameters:
                 raise ValueError(f"{f.name} must be > 0 [{f.metadata['unit']}], got {value!r}")
             if not f.metadata["positive"] and value < 0.0:
                 raise ValueError(f"{f.name} must be >= 0 [{f.metadata['unit']}], got {value!r}")
+            low, high = FIELD_RANGES.get(f.name, (0.0, math.inf))
+            if not low <= value <= high:
+                raise ValueError(
+                    f"{f.name}={value!r} [{f.metadata['unit']}] is outside the supported "
+                    f"range [{low:g}, {high:g}]"
+                )
             object.__setattr__(self, f.name, value)
-        if self.m2 > 50.0:
-            raise ValueError(f"m2 must be <= 50 (interface exponent), got {self.m2!r}")
+        logs = derived_log10(self.mass, self.g, self.area, self.c_n, self.m2)
+        for name, (low, high, unit, description) in DERIVED_RANGES.items():
+            exponent = float(logs[name])
+            if not math.log10(low) <= exponent <= math.log10(high):
+                raise ValueError(
+                    f"{description} {name} = {_power_text(exponent)} {unit} is outside the "
+                    f"supported range [{low:g}, {high:g}] {unit} ({self._fields_text()})"
+                )
+
+    def _fields_text(self) -> str:
+        return ", ".join(f"{name}={getattr(self, name)!r}" for name in self.field_names())
 
     # -- construction -------------------------------------------------------------------
     @classmethod
@@ -87,6 +180,13 @@ class Parameters:
         for name in ("c_n", "m2"):
             if name in others:
                 raise ValueError(f"{name} is derived from e_n and m1; do not pass it too")
+        # In logarithms: e_n^(-1/m1) overflows for extreme inputs; the constructor then
+        # refuses the c_n (or the derived y0, f0) with its value.
+        log_c_n = -math.log10(float(e_n)) / float(m1)
+        if abs(log_c_n) > 300.0:
+            raise ValueError(
+                f"c_n = e_n^(-1/m1) = 1e{log_c_n:.4g} is not representable (e_n={e_n!r}, m1={m1!r})"
+            )
         return cls(c_n=float(e_n) ** (-1.0 / m1), m2=1.0 / m1, **others)
 
     def replace(self, **changes: float) -> Parameters:
@@ -152,6 +252,16 @@ class Parameters:
     def static_friction_force(self) -> float:
         """F_t0 = μ m g [N], eq. (4.1): the static friction force without vibration."""
         return self.mu * self.mass * self.g
+
+    @property
+    def max_force(self) -> float:
+        """Largest |F| [N] the solvers accept: ``FORCE_LIMIT_FACTOR`` m g = 1e6 m g."""
+        return FORCE_LIMIT_FACTOR * self.mass * self.g
+
+    @property
+    def max_amplitude(self) -> float:
+        """Largest amplitude A [m] the solvers accept: ``AMPLITUDE_LIMIT_FACTOR`` y0 = 1e3 y0."""
+        return AMPLITUDE_LIMIT_FACTOR * self.static_deflection
 
     def motion_threshold(self, amplitude: float) -> float:
         """Smallest force that makes the slider move, μ S c_n max(y0 - A, 0)^m2 [N].

@@ -22,13 +22,14 @@ def sweep(
     force: Any,
     amplitude: Any,
     method: str = "steady",
-    duration: float = 0.05,
+    duration: float | None = None,
     dt: float | None = None,
     scheduler: str | None = None,
     workers: int | None = None,
     store: str | Path | None = None,
     progress: bool = False,
     amplitude_chunk: int | None = None,
+    allow_large: bool = False,
 ) -> xr.DataArray:
     """Mean sliding velocity [m/s] over any Parameters fields, force and amplitude.
 
@@ -40,14 +41,19 @@ def sweep(
         Parameters fields to sweep (e.g. ``{"mu": [...], "m2": [...]}``), in SI units;
         each becomes a dimension, in this order.
     force, amplitude : float or array
-        Tangential force F [N] and amplitude A = y0 - y_min [m]; always the last two
+        Tangential force F in [0, 1e6 m g] [N] and amplitude A = y0 - y_min in
+        [0, 1e3 y0] [m] (for every swept parameter set); always the last two
         dimensions ("force", "amplitude").
     method : {"steady", "time"}
         "steady": exact long-time mean (REFERENCE fact 6; 0 where the slider never
         moves, inf where F > μ m g). "time": batched RK4 with located switching for
         ``duration`` [s] from rest at the top, mean = x(duration)/duration.
+    duration : float, optional
+        Simulated time per point for "time" [s] (default 0.05 s). Refused with
+        "steady" unless it is the default.
     dt : float, optional
-        RK4 step for "time" [s] (default T0/200).
+        RK4 step for "time" [s] (default T0/200 of each parameter set); must be
+        <= T0/10 for every parameter set. Refused with "steady".
     scheduler : str, optional
         Address of a running Dask scheduler (``tcp://host:port``).
     workers : int, optional
@@ -56,6 +62,10 @@ def sweep(
         Resumable Zarr working store; chunks already there are not recomputed.
     progress : bool
         Progress bar with ETA on standard error.
+    allow_large : bool
+        Run even when the estimated run time exceeds 10 minutes or the memory half of
+        the available memory; otherwise refused up front with
+        :class:`microslip.budget.WorkLimitError` (:meth:`SweepSpec.check_budget`).
 
     Returns
     -------
@@ -68,6 +78,9 @@ def sweep(
         params, axes, force, amplitude, method=method, duration=duration, dt=dt,
         amplitude_chunk=amplitude_chunk,
     )  # fmt: skip
+    if not isinstance(allow_large, bool):
+        raise ValueError(f"allow_large must be True or False, got {allow_large!r}")
+    spec.check_budget(allow_large=allow_large)
     ds = run_sweep(spec, store=store, scheduler=scheduler, workers=workers, progress=progress)
     velocity = ds["mean_velocity"]
     if np.isinf(velocity.values).any():

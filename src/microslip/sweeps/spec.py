@@ -17,10 +17,16 @@ from typing import Any
 
 import numpy as np
 
+from microslip import budget
 from microslip import validation as check
-from microslip.model.parameters import Parameters
+from microslip.model.parameters import DERIVED_RANGES, Parameters, derived_log10
+from microslip.validation import DEFAULT_RK4_STEPS_PER_PERIOD
 
 METHODS = ("steady", "time")
+DEFAULT_DURATION = 0.05  # [s], "time" method
+# Parameter combinations are checked on a dense grid; beyond this many it would not fit.
+MAX_PARAMETER_SETS = 10_000_000
+_DERIVED_FIELDS = ("mass", "g", "area", "c_n", "m2")
 ChunkKey = tuple[int, ...]  # parameter-axis indices..., amplitude-chunk index
 
 
@@ -58,11 +64,21 @@ class SweepSpec:
         amplitudes: Any,
         *,
         method: str = "steady",
-        duration: float = 0.05,
+        duration: float | None = None,
         dt: float | None = None,
         amplitude_chunk: int | None = None,
     ) -> SweepSpec:
-        """Validate every input and build the spec (``ValueError`` naming the culprit)."""
+        """Validate every input and build the spec (``ValueError`` naming the culprit).
+
+        Every combination of the swept fields must make valid :class:`Parameters`
+        (at most ``MAX_PARAMETER_SETS`` combinations). Forces must be in
+        [0, 1e6 m g] and amplitudes in [0, 1e3 y0] for every combination. ``duration``
+        [s] (default 0.05 s) and ``dt`` [s] (default T0/200 of each combination) apply
+        to ``method="time"`` only: with "steady" a ``dt`` or a ``duration`` other than
+        the default is refused rather than silently ignored. With "time", ``dt`` must
+        be <= T0/10 for every combination (the check of ``simulate(method="rk4")``;
+        the error names the combination with the shortest T0).
+        """
         params = Parameters() if params is None else params
         if not isinstance(params, Parameters):
             raise ValueError(f"params must be a microslip.Parameters, got {type(params).__name__}")
@@ -80,19 +96,31 @@ class SweepSpec:
             param_axes.append((name, tuple(float(v) for v in array)))
         forces = check.real_array("force", forces)
         if np.any(forces < 0):
-            raise ValueError(f"force must be >= 0 N, got {float(forces[forces < 0][0])!r}")
+            raise ValueError(
+                f"force must be >= 0 N in a sweep (the mean velocity is computed for forward "
+                f"sliding), got {float(forces[forces < 0][0])!r}"
+            )
         amplitudes = check.real_array("amplitude", amplitudes)
         if np.any(amplitudes < 0):
             raise ValueError(
                 f"amplitude must be >= 0 m, got {float(amplitudes[amplitudes < 0][0])!r}"
             )
+        if method == "steady":
+            if dt is not None:
+                raise ValueError(f"dt={dt!r} applies to method='time' only, not 'steady'")
+            if duration is not None and duration != DEFAULT_DURATION:
+                raise ValueError(
+                    f"duration={duration!r} applies to method='time' only; 'steady' computes "
+                    "the long-time mean"
+                )
+        duration = DEFAULT_DURATION if duration is None else duration
         duration = check.real("duration", duration, minimum=0.0, strict=True)
         if dt is not None:
             dt = check.real("dt", dt, minimum=0.0, strict=True)
         if amplitude_chunk is None:
             amplitude_chunk = 8 if method == "steady" else max(1, 4096 // len(forces))
         amplitude_chunk = check.positive_int("amplitude_chunk", amplitude_chunk)
-        return cls(
+        spec = cls(
             base=params,
             param_axes=tuple(param_axes),
             forces=tuple(float(f) for f in forces),
@@ -102,6 +130,105 @@ class SweepSpec:
             dt=dt,
             amplitude_chunk=min(amplitude_chunk, len(amplitudes)),
         )
+        spec._check_parameter_sets()
+        return spec
+
+    # -- checks over every parameter combination ------------------------------------------
+    @property
+    def n_parameter_sets(self) -> int:
+        return math.prod(len(values) for _, values in self.param_axes)
+
+    def _field_grid(self) -> dict[str, np.ndarray]:
+        """Each Parameters field, broadcast to the parameter axes' shape."""
+        shape = tuple(len(values) for _, values in self.param_axes)
+        grid = {}
+        for name in Parameters.field_names():
+            value = np.asarray(getattr(self.base, name), dtype=float)
+            for axis, (swept, values) in enumerate(self.param_axes):
+                if swept == name:
+                    index = [1] * len(shape)
+                    index[axis] = len(values)
+                    value = np.asarray(values, dtype=float).reshape(index)
+            grid[name] = np.broadcast_to(value, shape)
+        return grid
+
+    def _grid_logs(self) -> dict[str, np.ndarray]:
+        grid = self._field_grid()
+        logs = derived_log10(*(grid[name] for name in _DERIVED_FIELDS))
+        shape = grid["mass"].shape
+        logs = {name: np.broadcast_to(value, shape) for name, value in logs.items()}
+        logs["mg"] = np.broadcast_to(np.log10(grid["mass"]) + np.log10(grid["g"]), shape)
+        return logs
+
+    def _params_at_index(self, index: tuple[int, ...]) -> Parameters:
+        return self.params_at((*index, 0))
+
+    def _where(self, index: tuple[int, ...]) -> str:
+        if not self.param_axes:
+            return ""
+        text = ", ".join(
+            f"{name}={values[i]!r}"
+            for (name, values), i in zip(self.param_axes, index, strict=True)
+        )
+        return f" at {text}"
+
+    def _check_parameter_sets(self) -> None:
+        """Every combination valid; forces, amplitudes and dt within its limits."""
+        if self.n_parameter_sets > MAX_PARAMETER_SETS:
+            raise ValueError(
+                f"the sweep has {self.n_parameter_sets} parameter combinations; at most "
+                f"{MAX_PARAMETER_SETS} are supported"
+            )
+        logs = self._grid_logs()
+        bad = np.zeros(logs["mg"].shape, dtype=bool)
+        for name, (low, high, _unit, _description) in DERIVED_RANGES.items():
+            bad |= ~((logs[name] >= math.log10(low)) & (logs[name] <= math.log10(high)))
+        if bad.any():
+            # Parameters names the quantity out of range (same formulas as the grid).
+            self._params_at_index(tuple(int(i) for i in np.argwhere(bad)[0]))
+        worst_mg = np.unravel_index(np.argmin(logs["mg"]), logs["mg"].shape)
+        worst_y0 = np.unravel_index(np.argmin(logs["y0"]), logs["y0"].shape)
+        try:
+            check.force(self._params_at_index(worst_mg), max(self.forces))
+        except ValueError as error:
+            raise ValueError(f"{error}{self._where(worst_mg)}") from None
+        try:
+            check.amplitude(self._params_at_index(worst_y0), max(self.amplitudes))
+        except ValueError as error:
+            raise ValueError(f"{error}{self._where(worst_y0)}") from None
+        if self.method == "time" and self.dt is not None:
+            worst = np.unravel_index(np.argmin(logs["T0"]), logs["T0"].shape)
+            params = self._params_at_index(worst)
+            check.rk4_step(self.dt, params.natural_period, where=self._where(worst))
+
+    def estimate(self) -> budget.Estimate:
+        """Estimated work, run time [s] and memory [bytes] (:mod:`microslip.budget`)."""
+        n_forces, n_amplitudes = len(self.forces), len(self.amplitudes)
+        lane_steps = 0.0
+        if self.method == "time":
+            if self.dt is not None:
+                steps_per_set = math.ceil(self.duration / self.dt)
+                lane_steps = float(steps_per_set) * self.n_parameter_sets
+            else:  # dt = T0/200 per set: steps = duration * 200 * f0
+                f0 = 10.0 ** self._grid_logs()["f0"]
+                lane_steps = float(
+                    np.sum(np.ceil(self.duration * DEFAULT_RK4_STEPS_PER_PERIOD * f0))
+                )
+            lane_steps *= n_forces * n_amplitudes
+        return budget.estimate_sweep(
+            method=self.method,
+            n_sets=self.n_parameter_sets,
+            n_forces=n_forces,
+            n_amplitudes=n_amplitudes,
+            lane_steps=lane_steps,
+            chunk_points=n_forces * self.amplitude_chunk,
+        )
+
+    def check_budget(self, *, allow_large: bool = False) -> None:
+        """Refuse (:class:`microslip.budget.WorkLimitError`) a sweep whose estimated run
+        time exceeds 10 minutes or whose memory exceeds half the available memory,
+        unless ``allow_large``. Called by :func:`microslip.sweep` and the CLI."""
+        budget.check(self.estimate(), allow_large=allow_large)
 
     # -- geometry ---------------------------------------------------------------------
     @property

@@ -1,0 +1,290 @@
+"""Up-front estimates of steps, run time and memory, and refusal of jobs that exceed them.
+
+Before a long job starts, :func:`microslip.simulate`, :func:`microslip.sweep`,
+:func:`microslip.velocity_map` and the CLI estimate its work from the inputs alone (no
+compilation, no integration, well under a second) and raise :class:`WorkLimitError`,
+one line naming the estimate and the limit, when
+
+* the estimated run time exceeds ``TIME_LIMIT_S`` (10 minutes), or
+* the estimated memory exceeds ``MEMORY_FRACTION`` (50 %) of the memory available now
+  (``MemAvailable`` of ``/proc/meminfo``, else ``sysconf``'s available pages, else the
+  total; also bounded by a cgroup memory limit where there is one).
+
+``allow_large=True`` (CLI: ``--allow-large``) skips the refusal. The estimates are
+deliberately conservative (they may overstate the work up to ~2-3 times, never
+understate it by much); their rates are measured constants of this module.
+
+:func:`~microslip.mean_velocity` and :func:`~microslip.stick_slip_cycle` are not
+checked: each builds one half orbit in a table of fixed size (at most ~4 000 nodes) and
+finishes in well under a millisecond for any valid input.
+"""
+
+from __future__ import annotations
+
+import math
+import os
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from microslip import validation
+from microslip.model.parameters import Parameters
+from microslip.validation import DEFAULT_RK4_STEPS_PER_PERIOD
+
+__all__ = [
+    "DEFAULT_MAX_SAMPLES",
+    "MEMORY_FRACTION",
+    "TIME_LIMIT_S",
+    "Estimate",
+    "WorkLimitError",
+    "available_memory",
+    "check",
+    "default_save_every",
+    "estimate_simulation",
+    "estimate_sweep",
+    "event_steps_per_period",
+]
+
+TIME_LIMIT_S = 600.0  # a sane default: 10 minutes
+MEMORY_FRACTION = 0.5  # of the memory available when the job starts
+DEFAULT_MAX_SAMPLES = 1_000_000  # default_save_every: ~100 MB of NetCDF output at most
+
+# -- measured rates ------------------------------------------------------------------------
+# Measured 2026-11-23 on the project's 2-core development machine (AVX-512; load average
+# 1-2 from other jobs), warm numba cache, by timing simulate() over 0.5 s of the paper's
+# case (F = 0.5 N, A = 1.5e-7 m), compute_chunk() on 256 x 256, 4 x 1024 and 2048 x 4
+# steady grids and on a 64 x 64 "time" chunk of 0.01 s; then rounded up by ~50 %.
+EVENT_S_PER_STEP = 0.5e-6  # measured 0.31 us per DOP853 step (0.37 us keeping every step)
+RK4_S_PER_STEP = 0.25e-6  # measured 0.15 us per RK4 step (0.19 us keeping every step)
+S_PER_SAMPLE = 0.1e-6  # measured ~0.05 us per kept sample, on top of the step
+BATCH_S_PER_LANE_STEP = 7.5e-9  # measured 5.1 ns per trajectory-step (2.0e8/s, 2 cores)
+STEADY_S_PER_ORBIT = 20e-6  # measured 13.5 us per half-orbit table (per amplitude)
+STEADY_S_PER_POINT = 1.0e-6  # measured 0.68 us per (force, amplitude) point
+
+# DOP853 work per normal period T0 = 1/f0 (accepted + rejected steps + switching
+# instants), the worst of m2 in {1, 1.5, 2, 3}, F/(mu m g) in {-0.5, 0, 0.3, 0.9, 2},
+# A/y0 in {0, 0.3, 0.99, 1.5, 10, 1000} over 50 T0, measured 2026-11-23; the worst case
+# was m2 = 1, A = 1.5 y0 throughout. Interpolated in log rtol, times EVENT_SAFETY.
+_EVENT_RTOL = np.array([1e-13, 1e-11, 1e-9, 1e-6, 1e-3])
+_EVENT_STEPS_PER_PERIOD = np.array([116.6, 94.9, 76.9, 48.0, 23.2])
+EVENT_SAFETY = 1.2
+# Switching instants per T0 (release, stop, loss and return of contact, and reversals),
+# an upper bound: each is an extra output boundary and an extra event record.
+EVENTS_PER_PERIOD = 6.0
+
+# Memory per kept sample [bytes]: the driver's per-buffer copies and their concatenation
+# (t, 4 states, direction: 2 x 48 B), and the derived and output variables of
+# SimulationResult.to_xarray() (R, Ft, xddot, state, copies: ~100 B).
+BYTES_PER_SAMPLE = 200
+BYTES_PER_EVENT = 150
+DRIVER_BUFFER_BYTES = (1 << 16) * 48 + (1 << 14) * 48  # integrators.driver buffers
+# Sweeps: the result array, the copy read back from the store, the Dataset written out.
+SWEEP_BYTES_PER_POINT = 32
+BATCH_BYTES_PER_LANE = 256  # coefficients, initial and final states, block scratch
+STEADY_BYTES_PER_AMPLITUDE = 2 * 8 * (16 * 256 + 16)  # one orbit table (ys, yds)
+
+
+class WorkLimitError(ValueError):
+    """A job whose estimated run time or memory exceeds the limits (one-line message)."""
+
+
+@dataclass(frozen=True)
+class Estimate:
+    """Estimated work of a job: ``work`` (e.g. 1e9) ``unit`` (e.g. "steps"), run time [s]
+    and peak memory [bytes]."""
+
+    what: str
+    work: float
+    unit: str
+    seconds: float
+    bytes: float
+
+
+def _meminfo_available() -> float | None:
+    try:
+        text = Path("/proc/meminfo").read_text()
+    except OSError:
+        return None
+    for line in text.splitlines():
+        if line.startswith("MemAvailable:"):
+            return float(line.split()[1]) * 1024.0
+    return None
+
+
+def _cgroup_available() -> float | None:
+    """Room left under a cgroup v2 memory limit, if one is set."""
+    try:
+        limit = Path("/sys/fs/cgroup/memory.max").read_text().strip()
+        if limit == "max":
+            return None
+        used = Path("/sys/fs/cgroup/memory.current").read_text().strip()
+        return max(float(limit) - float(used), 0.0)
+    except (OSError, ValueError):
+        return None
+
+
+def available_memory() -> float:
+    """Memory available to a new job now [bytes] (see the module docstring)."""
+    available = _meminfo_available()
+    if available is None:
+        try:
+            available = float(os.sysconf("SC_AVPHYS_PAGES") * os.sysconf("SC_PAGE_SIZE"))
+        except (ValueError, OSError, AttributeError):
+            available = float(os.sysconf("SC_PHYS_PAGES") * os.sysconf("SC_PAGE_SIZE"))
+    cgroup = _cgroup_available()
+    return min(available, cgroup) if cgroup is not None else available
+
+
+def _duration_text(seconds: float) -> str:
+    if seconds < 120.0:
+        return f"{seconds:.3g} s"
+    if seconds < 7200.0:
+        return f"{seconds / 60.0:.3g} min"
+    if seconds < 172800.0:
+        return f"{seconds / 3600.0:.3g} h"
+    return f"{seconds / 86400.0:.3g} days"
+
+
+def _bytes_text(size: float) -> str:
+    for unit, scale in (("TB", 1e12), ("GB", 1e9), ("MB", 1e6), ("kB", 1e3)):
+        if size >= scale:
+            return f"{size / scale:.3g} {unit}"
+    return f"{size:.0f} B"
+
+
+def check(estimate: Estimate, *, allow_large: bool = False) -> None:
+    """Raise :class:`WorkLimitError` if ``estimate`` exceeds the time or memory limit."""
+    if allow_large:
+        return
+    available = available_memory()
+    memory_limit = MEMORY_FRACTION * available
+    if estimate.seconds <= TIME_LIMIT_S and estimate.bytes <= memory_limit:
+        return
+    raise WorkLimitError(
+        f"{estimate.what}: estimated {estimate.work:.3g} {estimate.unit}, "
+        f"{_duration_text(estimate.seconds)} run time and {_bytes_text(estimate.bytes)} memory; "
+        f"limits {_duration_text(TIME_LIMIT_S)} run time and {_bytes_text(memory_limit)} memory "
+        f"({MEMORY_FRACTION:.0%} of the {_bytes_text(available)} available); "
+        "pass allow_large=True (CLI: --allow-large) to go ahead anyway"
+    )
+
+
+# -- simulate -------------------------------------------------------------------------------
+def event_steps_per_period(rtol: float) -> float:
+    """Conservative DOP853 steps (with rejections and switches) per T0 at ``rtol``."""
+    log_rtol = math.log10(rtol)
+    logs = np.log10(_EVENT_RTOL)
+    if log_rtol < logs[0]:  # order 8: steps grow like rtol^(-1/8)
+        spp = _EVENT_STEPS_PER_PERIOD[0] * 10.0 ** ((logs[0] - log_rtol) / 8.0)
+    else:
+        spp = float(np.interp(log_rtol, logs, _EVENT_STEPS_PER_PERIOD))
+    return EVENT_SAFETY * spp
+
+
+def _boundaries(
+    params: Parameters, duration: float, method: str, dt: float | None, rtol: float
+) -> tuple[float, float]:
+    """(steps, output boundaries) of a run: the boundaries include switching instants."""
+    periods = duration / params.natural_period
+    events = EVENTS_PER_PERIOD * periods
+    if method == "rk4":
+        step = params.natural_period / DEFAULT_RK4_STEPS_PER_PERIOD if dt is None else dt
+        steps = math.ceil(duration / step)
+    else:
+        steps = event_steps_per_period(rtol) * periods
+    return float(steps), float(steps + events)
+
+
+def estimate_simulation(
+    params: Parameters,
+    *,
+    duration: float,
+    method: str,
+    dt: float | None = None,
+    rtol: float = 1e-11,
+    n_t_eval: int | None = None,
+    save_every: int = 1,
+) -> Estimate:
+    """Steps, run time [s] and memory [bytes] of ``simulate`` with these (validated) inputs.
+
+    Steps: duration/dt for "rk4"; for "event" the periods duration/T0 times the measured
+    steps per period at ``rtol`` (:func:`event_steps_per_period`). Samples kept:
+    ``n_t_eval`` if given, else (steps + switching instants)/``save_every``. Memory: the
+    samples and switching instants at ``BYTES_PER_SAMPLE`` and ``BYTES_PER_EVENT`` each,
+    plus the driver's buffers.
+    """
+    steps, boundaries = _boundaries(params, duration, method, dt, rtol)
+    samples = float(n_t_eval) if n_t_eval is not None else boundaries / save_every + 2.0
+    events = EVENTS_PER_PERIOD * duration / params.natural_period
+    per_step = RK4_S_PER_STEP if method == "rk4" else EVENT_S_PER_STEP
+    return Estimate(
+        what=f"simulate (method={method!r}, duration={duration:g} s)",
+        work=steps,
+        unit="steps",
+        seconds=steps * per_step + samples * S_PER_SAMPLE,
+        bytes=samples * BYTES_PER_SAMPLE + events * BYTES_PER_EVENT + DRIVER_BUFFER_BYTES,
+    )
+
+
+def default_save_every(
+    params: Parameters,
+    *,
+    duration: float,
+    method: str,
+    dt: float | None = None,
+    max_samples: int = DEFAULT_MAX_SAMPLES,
+    rtol: float = 1e-11,
+) -> int:
+    """Smallest n >= 1 such that keeping every n-th step boundary keeps at most
+    ``max_samples`` samples (estimated, see :func:`estimate_simulation`).
+
+    ``duration`` [s], ``dt`` [s] (RK4; default T0/200) and ``rtol`` as for ``simulate``;
+    they are validated here too (``ValueError`` naming the field), since the CLI calls
+    this before :func:`microslip.simulate`.
+    """
+    duration = validation.real("duration", duration, minimum=0.0, strict=True)
+    method = validation.one_of("method", method, ("event", "rk4"))
+    rtol = validation.real("rtol", rtol, minimum=0.0, strict=True)
+    max_samples = validation.positive_int("max_samples", max_samples)
+    if dt is not None:
+        dt = validation.real("dt", dt, minimum=0.0, strict=True)
+    _steps, boundaries = _boundaries(params, duration, method, dt, rtol)
+    return max(1, math.ceil(boundaries / max_samples))
+
+
+# -- sweeps ---------------------------------------------------------------------------------
+def estimate_sweep(
+    *,
+    method: str,
+    n_sets: int,
+    n_forces: int,
+    n_amplitudes: int,
+    lane_steps: float = 0.0,
+    chunk_points: int = 1,
+) -> Estimate:
+    """Work, run time [s] and memory [bytes] of a sweep.
+
+    ``n_sets`` parameter sets, each on ``n_forces`` x ``n_amplitudes`` points. "steady":
+    one orbit table per (set, amplitude) and a cycle per point. "time": ``lane_steps``
+    RK4 trajectory-steps in all. Memory: the result (``SWEEP_BYTES_PER_POINT`` per
+    point) and the buffers of the chunk of ``chunk_points`` points being computed (an
+    in-process run computes one chunk at a time; each Dask worker holds one more).
+    """
+    points = float(n_sets) * n_forces * n_amplitudes
+    if method == "steady":
+        orbits = float(n_sets) * n_amplitudes
+        seconds = orbits * STEADY_S_PER_ORBIT + points * STEADY_S_PER_POINT
+        buffers = 8 * chunk_points + (os.cpu_count() or 1) * STEADY_BYTES_PER_AMPLITUDE
+        work, unit = points, "points"
+    else:
+        seconds = lane_steps * BATCH_S_PER_LANE_STEP
+        buffers = BATCH_BYTES_PER_LANE * chunk_points
+        work, unit = lane_steps, "trajectory-steps"
+    return Estimate(
+        what=f"sweep (method={method!r}, {points:.3g} points)",
+        work=work,
+        unit=unit,
+        seconds=seconds,
+        bytes=points * SWEEP_BYTES_PER_POINT + buffers,
+    )

@@ -1,0 +1,144 @@
+"""Work budget: long jobs are estimated and refused up front (issue 8, defect 4).
+
+The examples of the issue used to run for hours or until memory ran out; each must now
+be refused in well under a second, in one line naming the estimate and the limit.
+"""
+
+import math
+import time
+
+import numpy as np
+import pytest
+
+import microslip as ms
+from microslip import budget
+from microslip.budget import WorkLimitError
+from microslip.sweeps import SweepSpec
+
+P = ms.Parameters()
+T0 = P.natural_period
+MAP_F = np.linspace(0.05, 0.95, 181)
+MAP_A = np.linspace(0.0, 3e-7, 151)
+
+
+def refused_quickly(call):
+    started = time.perf_counter()
+    with pytest.raises(WorkLimitError) as info:
+        call()
+    elapsed = time.perf_counter() - started
+    assert elapsed < 1.0, elapsed
+    message = str(info.value)
+    assert "\n" not in message
+    assert "limits 10 min run time" in message
+    assert "pass allow_large=True (CLI: --allow-large)" in message
+    return message
+
+
+def test_simulate_a_million_seconds_is_refused():
+    message = refused_quickly(lambda: ms.simulate(force=0.5, amplitude=1.5e-7, duration=1e6))
+    # 1e6 s / T0 = 1.5e9 periods at >= 32 steps per period (paper case): >= 4.8e10 steps.
+    steps = float(message.split("estimated ")[1].split(" steps")[0])
+    assert 1.485e9 * 32 <= steps <= 1.485e9 * 200
+    assert " h run time" in message or " days run time" in message
+
+
+def test_simulate_rk4_with_a_tiny_step_is_refused():
+    message = refused_quickly(
+        lambda: ms.simulate(force=0.5, amplitude=1.5e-7, duration=1.0, method="rk4", dt=1e-12)
+    )
+    assert "estimated 1e+12 steps" in message  # duration / dt exactly
+
+
+def test_map_on_1e5_by_1e5_points_is_refused():
+    forces, amplitudes = np.linspace(0.05, 0.95, 100_000), np.linspace(0, 3e-7, 100_000)
+    message = refused_quickly(lambda: ms.velocity_map(forces=forces, amplitudes=amplitudes))
+    assert "estimated 1e+10 points" in message
+    # The result (32 B per point) and the one in-memory chunk (8 B per point).
+    assert "400 GB memory" in message
+
+
+def test_time_map_of_100_s_is_refused():
+    spec = SweepSpec.build(None, None, MAP_F, MAP_A, method="time", duration=100.0)
+    message = refused_quickly(spec.check_budget)
+    # 181 x 151 trajectories x ceil(100 s / (T0/200)) steps each.
+    steps = 181 * 151 * math.ceil(100.0 * 200 / T0)
+    assert f"estimated {steps:.3g} trajectory-steps" in message
+    refused_quickly(
+        lambda: ms.velocity_map(forces=MAP_F, amplitudes=MAP_A, method="time", duration=100.0)
+    )
+
+
+def test_a_job_just_inside_the_time_limit_runs(monkeypatch):
+    kwargs = {"force": 0.5, "amplitude": 1.5e-7, "duration": 0.02}
+    estimate = budget.estimate_simulation(P, duration=0.02, method="event")
+    monkeypatch.setattr(budget, "TIME_LIMIT_S", estimate.seconds * 1.001)
+    r = ms.simulate(**kwargs)
+    assert r.t[-1] == 0.02
+    monkeypatch.setattr(budget, "TIME_LIMIT_S", estimate.seconds * 0.999)
+    with pytest.raises(WorkLimitError, match="run time"):
+        ms.simulate(**kwargs)
+    assert ms.simulate(**kwargs, allow_large=True).t[-1] == 0.02
+
+
+def test_memory_limit_is_half_the_available_memory(monkeypatch):
+    estimate = budget.estimate_simulation(P, duration=0.02, method="rk4")
+    monkeypatch.setattr(budget, "available_memory", lambda: 2.0 * estimate.bytes * 1.001)
+    ms.simulate(force=0.5, amplitude=1.5e-7, duration=0.02, method="rk4")
+    monkeypatch.setattr(budget, "available_memory", lambda: 2.0 * estimate.bytes * 0.999)
+    with pytest.raises(WorkLimitError, match=r"memory \(50% of the"):
+        ms.simulate(force=0.5, amplitude=1.5e-7, duration=0.02, method="rk4")
+
+
+def test_sweep_checks_its_budget(monkeypatch):
+    monkeypatch.setattr(budget, "TIME_LIMIT_S", 1e-9)
+    with pytest.raises(WorkLimitError, match="points"):
+        ms.velocity_map(forces=[0.5], amplitudes=[1e-7, 2e-7])
+    v = ms.velocity_map(forces=[0.5], amplitudes=[1e-7, 2e-7], allow_large=True)
+    assert v.shape == (1, 2) and (v.values > 0).all()
+
+
+def test_available_memory_is_plausible():
+    total = 0.0
+    with open("/proc/meminfo") as meminfo:
+        for line in meminfo:
+            if line.startswith("MemTotal:"):
+                total = float(line.split()[1]) * 1024
+    available = budget.available_memory()
+    assert 0 < available <= total
+
+
+@pytest.mark.parametrize(
+    ("fields", "force", "amplitude_y0"),
+    [({}, 0.5, 0.66), ({"m2": 1.5}, 0.3, 1.5), ({}, 1.2, 3.0), ({}, -0.5, 0.2)],
+)
+def test_event_estimate_is_conservative_but_not_absurd(fields, force, amplitude_y0):
+    p = ms.Parameters(**fields)
+    duration = 30 * p.natural_period
+    r = ms.simulate(p, force=force, amplitude=amplitude_y0 * p.static_deflection, duration=duration)
+    estimate = budget.estimate_simulation(p, duration=duration, method="event")
+    actual = r.settings["n_steps"] + r.settings["n_rejected"] + r.event_t.size
+    assert actual <= estimate.work <= 6 * actual
+    assert r.t.size <= budget.estimate_simulation(p, duration=duration, method="event").work + 2 * (
+        budget.EVENTS_PER_PERIOD * 30
+    )
+
+
+@pytest.mark.parametrize("method", ["event", "rk4"])
+def test_default_save_every_bounds_the_samples(method):
+    duration, max_samples = 0.5, 2000
+    n = budget.default_save_every(P, duration=duration, method=method, max_samples=max_samples)
+    assert n > 1
+    r = ms.simulate(force=0.5, amplitude=1.5e-7, duration=duration, method=method, save_every=n)
+    assert r.t.size <= max_samples + 2  # plus t = 0 and t = duration
+    # n is the smallest that keeps the estimate within max_samples.
+    _steps, boundaries = budget._boundaries(P, duration, method, None, 1e-11)
+    assert boundaries / n <= max_samples < boundaries / (n - 1)
+    assert budget.default_save_every(P, duration=1e-3, method=method) == 1
+
+
+def test_default_save_every_bounds_the_papers_long_run():
+    # simulate(duration=200) used to keep ~9e6 samples (a 730 MB file).
+    n = budget.default_save_every(P, duration=200.0, method="event")
+    estimate = budget.estimate_simulation(P, duration=200.0, method="event", save_every=n)
+    assert estimate.bytes < 0.5e9
+    budget.check(estimate)  # within the time limit too
