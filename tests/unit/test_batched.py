@@ -210,3 +210,30 @@ def test_broadcast_coefficients_and_result_fields():
 def test_rejects_bad_input(coeffs, states0, t_end, dt, block, match):
     with pytest.raises(ValueError, match=match):
         simulate_batch(coeffs, states0, t_end, dt, block=block)
+
+
+def test_backward_sliding_reversals_and_stops_inside_a_step_match_scalar_kernel():
+    """F < 0, reversals in flight and in contact, and a slip phase inside one step."""
+    threshold = PAPER.motion_threshold(0.5 * Y0) * (1.0 + 3e-5)  # slips of ~T0/330
+    lanes = [
+        (-0.5, (Y0 - Y0 / 3, 0.0, 0.0, 0.0)),  # backward stick-slip
+        (-0.5, (-0.3 * Y0, 0.0, 0.0, 0.0)),  # backward, with flights
+        (-0.3, (-0.3 * Y0, 0.0, 0.0, 1.7531e-5)),  # forward, reverses in flight
+        (-1.2, (Y0 / 3, 0.0, 0.0, 2e-4)),  # forward, reverses in contact
+        (0.5, (Y0 / 3, 0.0, 0.0, -2e-4)),  # backward against F > 0: stops, sticks
+        (threshold, (0.5 * Y0, 0.0, 0.0, 0.0)),  # release and stop in one step
+        (-threshold, (0.5 * Y0, 0.0, 0.0, 0.0)),
+    ]
+    coeffs = np.repeat(pack(PAPER, 0.0)[None, :], len(lanes), axis=0)
+    coeffs[:, FORCE] = [force for force, _state in lanes]
+    states0 = np.array([state for _force, state in lanes])
+    duration = 6.37 * T0
+    result = simulate_batch(coeffs, states0, duration, T0 / 100, block=8)
+    for k in range(len(lanes)):
+        raw = integrate("rk4", coeffs[k], tuple(states0[k]), 0.0, duration, dt=T0 / 100,
+                        save_every=10**9)  # fmt: skip
+        assert raw.event_t.size >= 3
+        np.testing.assert_array_equal(result.states[k], raw.states[-1], err_msg=f"lane {k}")
+        assert result.direction[k] == raw.direction[-1]
+        assert result.n_switches[k] == raw.event_t.size
+    assert np.all(result.states[:4, 2] < 0.0)  # F < 0 lanes end behind their start
