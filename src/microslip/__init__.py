@@ -5,6 +5,9 @@ a slider on a power-law compliant contact that may lose contact, under a constan
 tangential force and Coulomb friction, with exact stick and located switching.
 """
 
+# First, before any jitted function is decorated: numba's on-disk cache keyed on the
+# whole reachable source, so an edit of any module is always compiled afresh.
+from microslip import _jit_cache  # noqa: F401  (sorts first; keep it first)
 from microslip.analysis.free_vibration import (
     free_frequency,
     free_period,

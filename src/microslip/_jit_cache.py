@@ -1,0 +1,263 @@
+"""On-disk cache of microslip's compiled kernels that cannot serve stale machine code.
+
+Numba's ``cache=True`` keys a compiled function by the contents of its own source file.
+microslip's kernels inline jitted functions of other modules (the integrators inline the
+contact law of ``model/contact.py``), so after an edit of the contact law numba's own
+cache would keep serving the old machine code without a word.
+
+This module registers a cache locator, ahead of numba's own, that serves only functions
+defined inside this package. It stores them under ``<root>/jit-<key>/<subpackage>/``,
+where ``key`` hashes the Python, NumPy, numba and llvmlite versions and the source of
+every module compiled code can reach: each module of the package that imports numba,
+and every module of the package those import, transitively. An edit of any of
+them changes the key and so selects a fresh, empty directory; directories of other keys
+are pruned, keeping the most recently used few (several checkouts may share the root).
+
+The root is ``$MICROSLIP_CACHE_DIR`` if set, else ``$XDG_CACHE_HOME/microslip``, else
+``~/.cache/microslip``. If it is not writable the kernels are cached in a private
+temporary directory removed at exit: every process compiles afresh, still correct.
+
+It must be imported before any jitted function is decorated, hence first thing in
+``microslip/__init__.py``; Dask workers import microslip too and get the same cache.
+Setting ``NUMBA_CACHE_LOCATOR_CLASSES`` replaces every locator, this one included, and
+so brings back numba's per-file keys.
+"""
+
+from __future__ import annotations
+
+import ast
+import atexit
+import functools
+import hashlib
+import os
+import re
+import shutil
+import sys
+import tempfile
+import time
+import warnings
+from pathlib import Path
+
+import llvmlite
+import numba
+import numpy as np
+from numba.core import caching
+
+__all__ = ["PACKAGE_DIR", "cache_dir", "cache_root", "source_key", "source_modules"]
+
+PACKAGE_DIR = Path(__file__).resolve().parent
+PACKAGE = PACKAGE_DIR.name
+PREFIX = "jit-"  # names of the key directories: `make clean` and pruning touch only these
+KEEP_OTHERS = 2  # key directories kept besides the current one (other checkouts, branches)
+# A key directory younger than this is never pruned: a process that started from another
+# source state may still be writing to it (numba would fail on a directory removed under it).
+MIN_AGE_S = 900.0
+_USED_STAMP = ".last-used"  # its mtime orders key directories for pruning
+
+
+def cache_root() -> Path:
+    """The directory that holds one ``jit-<key>`` directory per source state."""
+    explicit = os.environ.get("MICROSLIP_CACHE_DIR")
+    if explicit:
+        return Path(explicit).expanduser()
+    xdg = os.environ.get("XDG_CACHE_HOME")
+    base = Path(xdg).expanduser() if xdg else Path.home() / ".cache"
+    return base / "microslip"
+
+
+def _module_file(name: str, package_dir: Path) -> Path | None:
+    """The source file of module ``name`` (dotted, absolute) if it is inside the package."""
+    parts = name.split(".")
+    if parts[0] != PACKAGE:
+        return None
+    base = package_dir.joinpath(*parts[1:])
+    for candidate in (base.with_suffix(".py"), base / "__init__.py"):
+        if candidate.is_file():
+            return candidate
+    return None
+
+
+# Import statements, matched on the text so that only they are parsed (a whole-module parse
+# costs tens of ms at every start); anything the match cuts short parses the module.
+_IMPORT = re.compile(
+    r"^[ \t]*(from[ \t]+[.\w]+[ \t]+import[ \t]+(?:\([^)]*\)|[^\n]*)|import[ \t]+[^\n]*)", re.M
+)
+
+
+_NUMBA_IMPORT = re.compile(r"^[ \t]*(?:from|import)[ \t]+numba\b", re.M)
+
+
+def _import_nodes(text: str) -> list[ast.AST]:
+    try:
+        return [node for m in _IMPORT.finditer(text) for node in ast.parse(m.group(1)).body]
+    except SyntaxError:  # a continued line, or prose in a docstring
+        return list(ast.walk(ast.parse(text)))
+
+
+def _imported_files(path: Path, package_dir: Path) -> set[Path]:
+    """Package modules that ``path`` imports (``import a.b``, ``from a import b``, relative)."""
+    rel = path.relative_to(package_dir).with_suffix("")
+    parts = [PACKAGE, *rel.parts]
+    package = parts if parts[-1] == "__init__" else parts[:-1]
+    if package[-1] == "__init__":
+        package = package[:-1]
+    found: set[Path] = set()
+    for node in _import_nodes(path.read_text(encoding="utf-8")):
+        if isinstance(node, ast.Import):
+            names = [alias.name for alias in node.names]
+        elif isinstance(node, ast.ImportFrom):
+            if node.level:
+                anchor = package[: len(package) - node.level + 1]
+                module = ".".join([*anchor, *([node.module] if node.module else [])])
+            else:
+                module = node.module or ""
+            # `from pkg import name` reaches the submodule pkg.name if there is one, else
+            # the attribute `name` of pkg (its __init__.py).
+            names = []
+            for alias in node.names:
+                sub = f"{module}.{alias.name}"
+                names.append(sub if _module_file(sub, package_dir) else module)
+        else:
+            continue
+        for name in names:
+            target = _module_file(name, package_dir)
+            if target is not None:
+                found.add(target)
+    return found
+
+
+def source_modules(package_dir: Path = PACKAGE_DIR) -> list[Path]:
+    """Files whose source compiled code can reach, sorted.
+
+    Seeds are the modules that import numba; the set is closed under the
+    package-internal imports. A module that cannot be parsed makes every ``.py`` file of
+    the package count, so a syntax error never hides a dependency.
+    """
+    files = sorted(package_dir.rglob("*.py"))
+    try:
+        todo = [f for f in files if _NUMBA_IMPORT.search(f.read_text(encoding="utf-8"))]
+        reached: set[Path] = set()
+        while todo:
+            path = todo.pop()
+            if path not in reached:
+                reached.add(path)
+                todo.extend(_imported_files(path, package_dir) - reached)
+    except (SyntaxError, ValueError, OSError):
+        return files
+    return sorted(reached)
+
+
+def source_key(package_dir: Path = PACKAGE_DIR) -> str:
+    """Hex key of the reachable sources and of the versions that shape the machine code."""
+    digest = hashlib.sha256()
+    versions = (sys.version, np.__version__, numba.__version__, llvmlite.__version__)
+    digest.update(repr(versions).encode())
+    for path in source_modules(package_dir):
+        digest.update(path.relative_to(package_dir).as_posix().encode() + b"\0")
+        digest.update(hashlib.sha256(path.read_bytes()).digest())
+    return digest.hexdigest()[:24]
+
+
+def _writable(directory: Path) -> bool:
+    try:
+        directory.mkdir(parents=True, exist_ok=True)
+        tempfile.TemporaryFile(dir=directory).close()
+    except OSError:
+        return False
+    return True
+
+
+def _prune(root: Path, current: Path) -> None:
+    """Remove the key directories other than ``current`` and the most recently used few."""
+
+    def last_used(path: Path) -> float:
+        try:
+            return (path / _USED_STAMP).stat().st_mtime
+        except OSError:
+            return 0.0
+
+    others = [p for p in root.glob(PREFIX + "*") if p.is_dir() and p != current]
+    others.sort(key=last_used, reverse=True)
+    now = time.time()
+    for old in others[KEEP_OTHERS:]:
+        if now - last_used(old) > MIN_AGE_S:
+            shutil.rmtree(old, ignore_errors=True)
+
+
+@functools.cache
+def _private_dir(reason: str) -> Path:
+    """A temporary directory of this process, removed at exit: caching without persistence."""
+    private = Path(tempfile.mkdtemp(prefix="microslip-jit-"))
+    atexit.register(shutil.rmtree, private, ignore_errors=True)
+    warnings.warn(
+        f"microslip: {reason}; compiled kernels are not kept between runs "
+        "(set MICROSLIP_CACHE_DIR to a writable directory)",
+        RuntimeWarning,
+        stacklevel=1,
+    )
+    return private
+
+
+@functools.cache
+def cache_dir() -> Path:
+    """This process's cache directory for the current sources (created and pruned once)."""
+    try:
+        root = cache_root()
+    except (RuntimeError, KeyError):  # Path.home() without HOME or a passwd entry
+        return _private_dir("no home directory for the cache")
+    current = root / (PREFIX + source_key())
+    if not _writable(current):
+        return _private_dir(f"cache directory {str(root)!r} is not writable")
+    (current / _USED_STAMP).touch()
+    _prune(root, current)
+    return current
+
+
+class SourceTreeLocator(caching._CacheLocator):
+    """Numba cache locator for the functions of this package, keyed on all reachable source.
+
+    Functions defined elsewhere are left to numba's own locators (``from_function``
+    returns None for them), so other numba users in the same process are unaffected.
+    """
+
+    def __init__(self, py_func, py_file: str) -> None:
+        self._py_file = py_file
+        self._lineno = py_func.__code__.co_firstlineno
+        subdir = Path(py_file).resolve().parent.relative_to(PACKAGE_DIR)
+        self._cache_path = str(cache_dir() / subdir)
+
+    def get_cache_path(self) -> str:
+        return self._cache_path
+
+    def get_source_stamp(self) -> str:
+        # The directory is already keyed on the sources; the stamp adds the function's own
+        # file, for a module that compiles code without importing numba itself.
+        return self._cache_path + ":" + hashlib.sha256(Path(self._py_file).read_bytes()).hexdigest()
+
+    def get_disambiguator(self) -> str:
+        return str(self._lineno)
+
+    @classmethod
+    def from_function(cls, py_func, py_file: str) -> SourceTreeLocator | None:
+        try:
+            Path(py_file).resolve().relative_to(PACKAGE_DIR)
+        except (OSError, ValueError):
+            return None
+        locator = cls(py_func, py_file)
+        try:
+            locator.ensure_cache_path()
+        except OSError:
+            # Never give the function back to numba's locators: they would serve stale code.
+            subdir = Path(locator._cache_path).relative_to(cache_dir())
+            locator._cache_path = str(_private_dir("cache directory not writable") / subdir)
+            locator.ensure_cache_path()
+        return locator
+
+
+def _register() -> None:
+    impl = getattr(caching, "CacheImpl", None) or caching._CacheImpl
+    if SourceTreeLocator not in impl._locator_classes:
+        impl._locator_classes.insert(0, SourceTreeLocator)
+
+
+_register()
