@@ -1,5 +1,6 @@
 """Sweeps past one process: resumable stores and Dask clusters on loopback."""
 
+import json
 import os
 import signal
 import subprocess
@@ -40,6 +41,7 @@ def test_interrupted_sweep_resumes_only_missing_chunks(tmp_path, monkeypatch):
     monkeypatch.setattr(runner, "compute_chunk", flaky)
     with pytest.raises(KeyboardInterrupt):
         run_sweep(spec(), store=store)
+    assert not store.with_name("work.zarr.lock").exists()  # released on the way out
     assert len(SweepStore(store, spec()).missing()) == spec().n_chunks - 3
     calls.clear()
     resumed = run_sweep(spec(), store=store)
@@ -61,36 +63,56 @@ def test_store_of_another_sweep_is_refused(tmp_path):
         run_sweep(spec(), store=junk)
 
 
+def _without_history(path):
+    """The file's Dataset minus ``history`` (it holds the time and command of each run)."""
+    with xr.open_dataset(path) as ds:
+        ds = ds.load()
+    ds.attrs.pop("history", None)
+    return ds
+
+
 def test_killed_cli_sweep_resumes_to_identical_file(cli, tmp_path):
-    args = ["map", "--force", "0.05:0.95:40", "--amplitude", "0:3e-7:400", "--chunk", "1",
+    args = ["map", "--force", "0.05:0.95:40", "--amplitude", "0:3e-7:150", "--chunk", "1",
             "--method", "time", "--duration", "0.004", "--quiet"]  # fmt: skip
+    n_chunks = 150
     whole = tmp_path / "whole.nc"
     assert cli(*args, "--out", str(whole)).returncode == 0
     out = tmp_path / "map.nc"
+    work = tmp_path / "map.nc.partial.zarr"
     exe = [str(sys.executable.replace("python", "microslip"))]
     if not os.path.exists(exe[0]):
         exe = [sys.executable, "-m", "microslip.cli.main"]
     process = subprocess.Popen([*exe, *args, "--out", str(out)])
-    done_dir = tmp_path / "map.nc.partial.zarr" / "done" / "c"
-    deadline = time.time() + 120
-    while time.time() < deadline:
-        if done_dir.exists() and sum(len(f) for _, _, f in os.walk(done_dir)) >= 3:
-            break
-        if process.poll() is not None:
-            break
-        time.sleep(0.05)
-    killed = process.poll() is None
-    process.send_signal(signal.SIGKILL) if killed else None
+
+    def n_complete():
+        records = work / "complete"
+        return len(list(records.glob("*.json"))) if records.exists() else 0
+
+    deadline = time.time() + 240
+    while time.time() < deadline and process.poll() is None and n_complete() < 3:
+        time.sleep(0.01)
+    assert process.poll() is None, "the run ended before it could be killed mid-way"
+    process.send_signal(signal.SIGKILL)
     process.wait()
-    if killed:
-        assert not out.exists()
-        assert (tmp_path / "map.nc.partial.zarr").exists()
+    # Killed mid-way: a partial store with some, but not all, chunks complete, no output.
+    assert 3 <= n_complete() < n_chunks
+    assert not out.exists()
+    # Damage one finished chunk as well: the resumed run names it and computes it again.
+    record = sorted((work / "complete").glob("*.json"))[0]
+    damaged = work / json.loads(record.read_text())["file"]
+    raw = bytearray(damaged.read_bytes())
+    raw[len(raw) // 2] ^= 0xFF
+    damaged.write_bytes(bytes(raw))
     result = cli(*args, "--out", str(out))
     assert result.returncode == 0, result.stderr
-    assert out.read_bytes() == whole.read_bytes() or xr.open_dataset(out).identical(
-        xr.open_dataset(whole)
-    )
-    assert not (tmp_path / "map.nc.partial.zarr").exists()
+    key = tuple(int(i) for i in record.name.removesuffix(".json").split("."))
+    assert f"chunk {key} " in result.stderr and "recomputing it" in result.stderr
+    resumed, reference = _without_history(out), _without_history(whole)
+    assert resumed.identical(reference)
+    values = resumed["mean_velocity"].values
+    assert not np.isnan(values).any()
+    assert np.array_equal(values, reference["mean_velocity"].values)
+    assert not work.exists()
 
 
 def test_local_dask_cluster_matches_embedded_run_bit_for_bit():

@@ -3,6 +3,15 @@
 from microslip.sweeps.api import sweep, velocity_map
 from microslip.sweeps.runner import run_sweep
 from microslip.sweeps.spec import SweepSpec
-from microslip.sweeps.store import StoreMismatchError
+from microslip.sweeps.store import StoreBusyError, StoreMismatchError, exclusive_lock, remove_store
 
-__all__ = ["StoreMismatchError", "SweepSpec", "run_sweep", "sweep", "velocity_map"]
+__all__ = [
+    "StoreBusyError",
+    "StoreMismatchError",
+    "SweepSpec",
+    "exclusive_lock",
+    "remove_store",
+    "run_sweep",
+    "sweep",
+    "velocity_map",
+]

@@ -4,15 +4,21 @@ from __future__ import annotations
 
 import contextlib
 import sys
+from collections import deque
 from collections.abc import Iterator
+from concurrent.futures import Future, ThreadPoolExecutor
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from microslip.sweeps.compute import compute_chunk
 from microslip.sweeps.dataset import sweep_dataset
 from microslip.sweeps.spec import SweepSpec
-from microslip.sweeps.store import SweepStore
+from microslip.sweeps.store import SweepStore, exclusive_lock
+
+if TYPE_CHECKING:
+    import xarray as xr
 
 CONNECT_TIMEOUT_S = 5.0
 
@@ -54,6 +60,20 @@ def _progress(total: int, initial: int, show: bool):
     )  # fmt: skip
 
 
+def _checked(spec: SweepSpec, key, block) -> np.ndarray:
+    """``block`` as the chunk's float64 array; RuntimeError if it has the wrong shape or NaN."""
+    block = np.asarray(block)
+    expected = (len(spec.forces), len(spec.amplitudes[spec.amplitude_slice(key)]))
+    if block.shape != expected or block.dtype != np.float64:
+        raise RuntimeError(
+            f"chunk {key} came back with shape {block.shape} / dtype {block.dtype}, "
+            f"expected {expected} float64"
+        )
+    if np.isnan(block).any():  # a computed mean velocity is a number or inf, never NaN
+        raise RuntimeError(f"chunk {key} holds {int(np.isnan(block).sum())} NaN values")
+    return block
+
+
 def run_sweep(
     spec: SweepSpec,
     *,
@@ -61,26 +81,56 @@ def run_sweep(
     scheduler: str | None = None,
     workers: int | None = None,
     progress: bool = False,
-):
+) -> xr.Dataset:
     """Compute every missing chunk of ``spec`` and return the result as a Dataset.
 
-    With ``store``, chunks are written to that Zarr store as they finish; a rerun with
-    the same spec computes only the chunks not yet there. ``progress`` shows a bar
-    with ETA on standard error.
+    With ``store``, chunks are written to that Zarr store as they finish, each with a
+    checksum and a completion record written once its data are durable; the store is
+    locked (``exclusive_lock``) for the whole run, so a second run on it fails at once
+    with ``StoreBusyError``. A rerun with the same spec verifies every finished chunk,
+    recomputes damaged ones (``RuntimeWarning`` naming each) and computes the rest; the
+    result equals an uninterrupted run bit for bit. ``progress`` shows a bar with ETA on
+    standard error. Before returning, every point is checked to have been computed (no
+    NaN): a chunk that comes back with NaN raises ``RuntimeError``.
     """
     if workers is not None and (isinstance(workers, bool) or int(workers) < 1):
         raise ValueError(f"workers must be an integer >= 1, got {workers!r}")
-    # Connect first: a scheduler that cannot be reached leaves no store behind.
-    with dask_client(scheduler, workers) as client:
-        sweep_store = SweepStore(store, spec) if store is not None else None
-        todo = sweep_store.missing() if sweep_store is not None else list(spec.chunks())
-        result = None if sweep_store is not None else np.full(spec.shape, np.nan)
+    with contextlib.ExitStack() as stack:
+        sweep_store = None
+        if store is not None:
+            store = Path(store)
+            store.parent.mkdir(parents=True, exist_ok=True)
+            stack.enter_context(exclusive_lock(store))  # before connecting: busy fails at once
+        # Connect first: a scheduler that cannot be reached leaves no store behind.
+        client = stack.enter_context(dask_client(scheduler, workers))
+        result = np.full(spec.shape, np.nan)
+        if store is not None:
+            sweep_store = SweepStore(store, spec)
+            todo = sweep_store.verify(out=result)
+        else:
+            todo = list(spec.chunks())
+        done = set(spec.chunks()) - set(todo)
+        # One writer thread: the fsyncs of chunk k (milliseconds each on some disks) overlap
+        # the computation of chunk k+1. On the way out (Ctrl-C included) pending writes finish.
+        writer = stack.enter_context(ThreadPoolExecutor(max_workers=1))
+        written: deque[Future] = deque()
+
+        def durable(key, block):
+            sweep_store.write(key, block)
+            return key
+
+        def collect(wait: bool) -> None:  # a failed write (full disk) surfaces here
+            while written and (wait or written[0].done()):
+                done.add(written.popleft().result())
 
         def save(key, block):
-            if sweep_store is not None:
-                sweep_store.write(key, block)
+            block = _checked(spec, key, block)
+            result[spec.region(key)] = block
+            if sweep_store is None:
+                done.add(key)
             else:
-                result[spec.region(key)] = block
+                written.append(writer.submit(durable, key, block))
+                collect(wait=False)
 
         with _progress(spec.n_chunks, spec.n_chunks - len(todo), progress) as bar:
             if client is None:
@@ -95,5 +145,11 @@ def run_sweep(
                 for future in as_completed(futures):
                     save(key_of[future.key], future.result())
                     bar.update()
-    values = sweep_store.result() if sweep_store is not None else result
-    return sweep_dataset(spec, values)
+            collect(wait=True)
+    not_done = spec.n_chunks - len(done)
+    if not_done or np.isnan(result).any():
+        raise RuntimeError(
+            f"sweep incomplete: {not_done} chunks and {int(np.isnan(result).sum())} points "
+            "were not computed"
+        )
+    return sweep_dataset(spec, result)
