@@ -77,8 +77,15 @@ class SimulationResult:
         ]
 
     def to_xarray(self):
-        """An ``xarray.Dataset`` on dimension ``time``; every variable carries ``units``."""
+        """An ``xarray.Dataset`` on dimension ``time``; every variable carries ``units``.
+
+        Global attributes follow CF-1.10 (``Conventions``, ``title``, ``source``,
+        ``references``; ``history`` is added when a file is written); the flag
+        variables carry ``flag_values`` and ``flag_meanings``.
+        """
         import xarray as xr
+
+        from microslip.metadata import cf_static_attributes
 
         def var(values, units, long_name, **extra):
             return ("time", np.asarray(values), {"units": units, "long_name": long_name, **extra})
@@ -103,7 +110,7 @@ class SimulationResult:
             },
             coords={"time": ("time", self.t, {"units": "s", "long_name": "time"})},
             attrs={
-                "title": "microslip simulation (Grudzinski & Kostek 2005 model)",
+                **cf_static_attributes("microslip simulation (Grudzinski & Kostek 2005 model)"),
                 "method": self.method,
                 "force_N": self.force,
                 **{f"param_{k}": v for k, v in self.params.to_dict().items()},

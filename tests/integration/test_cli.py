@@ -70,7 +70,7 @@ def test_simulate_plot(cli, tmp_path):
 
 
 BAD_SIMULATE = [
-    (["--force", "-1", "--amplitude", "1e-7", "--duration", "0.01"], "force"),
+    (["--force", "abc", "--amplitude", "1e-7", "--duration", "0.01"], "--force"),
     (["--force", "0.5", "--amplitude", "-1e-7", "--duration", "0.01"], "amplitude"),
     (["--force", "0.5", "--amplitude", "1e-7", "--duration", "-1"], "duration"),
     (["--force", "0.5", "--amplitude", "1e-7", "--duration", "nan"], "--duration"),
@@ -95,7 +95,7 @@ def test_simulate_bad_input_is_one_line_exit_2(cli, tmp_path, args, field):
     assert result.returncode == 2
     assert "Traceback" not in result.stderr
     assert field in result.stderr
-    assert len(result.stderr.strip().splitlines()) <= 2  # argparse adds a usage line
+    assert len(result.stderr.strip().splitlines()) == 1  # no usage dump
     assert not out.exists()
     assert list(tmp_path.iterdir()) == []
 
@@ -161,6 +161,7 @@ def test_map_bad_input(cli, tmp_path, args, message):
     assert result.returncode == 2, result.stdout
     assert message in result.stderr
     assert "Traceback" not in result.stderr
+    assert len(result.stderr.strip().splitlines()) == 1
     assert list(tmp_path.iterdir()) == []
 
 

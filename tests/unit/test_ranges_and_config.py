@@ -57,3 +57,18 @@ def test_config_errors_name_the_file(tmp_path):
         load_config(bad)
     with pytest.raises(ValueError, match="unknown parameter 'stiffness'"):
         parameters_from_config({"parameters": {"stiffness": 1.0}}, "x.toml")
+
+
+@pytest.mark.parametrize("value", ["true", "'0.2'", "[0.2]", "{a = 1}"])
+def test_parameter_values_must_be_numbers(tmp_path, value):
+    path = tmp_path / "c.toml"
+    path.write_text(f"[parameters]\nmu = {value}\n")
+    with pytest.raises(ValueError, match=r"c\.toml: mu in \[parameters\] must be a number"):
+        parameters_from_config(load_config(path), str(path))
+
+
+def test_integer_parameters_become_floats(tmp_path):
+    path = tmp_path / "c.toml"
+    path.write_text("[parameters]\nmass = 2\n")
+    values = parameters_from_config(load_config(path), "c.toml")
+    assert values == {"mass": 2.0} and type(values["mass"]) is float

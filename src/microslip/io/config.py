@@ -39,17 +39,25 @@ def load_config(path: str | Path) -> dict[str, Any]:
 
 
 def parameters_from_config(data: dict[str, Any], source: str) -> dict[str, float]:
-    """The ``[parameters]`` table, checked for unknown fields."""
+    """The ``[parameters]`` table, checked for unknown fields and for numbers."""
     table = data.get("parameters", {})
     if not isinstance(table, dict):
         raise ValueError(f"{source}: [parameters] must be a table")
     known = Parameters.field_names()
-    for key in table:
+    values: dict[str, float] = {}
+    for key, value in table.items():
         if key not in known:
             raise ValueError(
                 f"{source}: unknown parameter {key!r} in [parameters]; known: {', '.join(known)}"
             )
-    return dict(table)
+        # TOML booleans are not numbers here, though Python's bool is an int
+        if isinstance(value, bool) or not isinstance(value, (int, float)):
+            unit = Parameters.field_unit(key)
+            raise ValueError(
+                f"{source}: {key} in [parameters] must be a number [{unit}], got {value!r}"
+            )
+        values[key] = float(value)
+    return values
 
 
 def command_options(data: dict[str, Any], command: str, allowed: set[str], source: str) -> dict:

@@ -8,6 +8,7 @@ import numpy as np
 import xarray as xr
 
 import microslip
+from microslip.metadata import cf_static_attributes
 from microslip.model.parameters import Parameters
 from microslip.sweeps.spec import SweepSpec
 
@@ -50,7 +51,7 @@ def sweep_dataset(spec: SweepSpec, values: np.ndarray) -> xr.Dataset:
         },
         coords=coords,
         attrs={
-            "title": "microslip mean sliding velocity sweep",
+            **cf_static_attributes("microslip mean sliding velocity sweep"),
             "method": spec.method,
             "sweep_definition": json.dumps(spec.definition(), sort_keys=True),
             "microslip_version": microslip.__version__,

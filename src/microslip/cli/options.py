@@ -1,0 +1,164 @@
+"""Options of each command: typed, merged from ``--config`` and flags, checked for sense.
+
+Every option has one kind; a TOML value of another type is refused in one line naming
+the key and the file. Options that would do nothing in the chosen mode (``--dt`` with
+the steady method, ``--workers`` with ``--scheduler``, ...) are refused too, naming
+where they came from (flag or config key).
+"""
+
+from __future__ import annotations
+
+import argparse
+import math
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+
+
+class CliError(ValueError):
+    """An input error to report in one line."""
+
+
+# Kinds: "float" (finite real), "int", "str", "bool", "values" (a range string, a number or
+# a list of numbers), "params" (NAME=RANGE strings), "state" (four numbers).
+SIMULATE = {
+    "force": "float", "amplitude": "float", "initial_state": "state", "duration": "float",
+    "method": "str", "dt": "float", "rtol": "float", "atol": "float", "samples": "int",
+    "save_every": "int", "out": "str", "plot": "str", "overwrite": "bool", "allow_large": "bool",
+}  # fmt: skip
+MAP = {
+    "force": "values", "amplitude": "values", "out": "str", "plot": "str", "method": "str",
+    "duration": "float", "dt": "float", "scheduler": "str", "workers": "int", "chunk": "int",
+    "quiet": "bool", "overwrite": "bool", "allow_large": "bool",
+}  # fmt: skip
+SWEEP = {**MAP, "param": "params"}
+FIGURES = {"out": "str", "only": "str", "dpi": "int", "quiet": "bool", "overwrite": "bool"}
+INFO = {"json": "bool"}
+SCHEMAS = {"info": INFO, "simulate": SIMULATE, "figures": FIGURES, "map": MAP, "sweep": SWEEP}
+
+
+@dataclass
+class Options:
+    """Parameters and options of one command, with where each option came from."""
+
+    params: Any
+    values: dict[str, Any] = field(default_factory=dict)
+    origin: dict[str, str] = field(default_factory=dict)
+
+    def __contains__(self, name: str) -> bool:
+        return name in self.values
+
+    def get(self, name: str, default: Any = None) -> Any:
+        return self.values.get(name, default)
+
+    def __getitem__(self, name: str) -> Any:
+        return self.values[name]
+
+    def flag(self, name: str) -> str:
+        """How the user gave option ``name``: ``--flag`` or ``key in [table] of FILE``."""
+        return self.origin.get(name, "--" + name.replace("_", "-"))
+
+    def refuse_together(self, first: str, second: str, reason: str) -> None:
+        if first in self and second in self:
+            raise CliError(
+                f"{self.flag(first)} cannot be combined with {self.flag(second)}: {reason}"
+            )
+
+    def refuse(self, name: str, reason: str) -> None:
+        if name in self:
+            raise CliError(f"{self.flag(name)} has no effect {reason}; remove it")
+
+
+def _typed(kind: str, key: str, value: Any, where: str) -> Any:
+    """A config value checked against its kind (``CliError`` naming ``key`` otherwise)."""
+
+    def fail(expected: str) -> CliError:
+        return CliError(f"{where}: {key} must be {expected}, got {value!r}")
+
+    is_number = isinstance(value, (int, float)) and not isinstance(value, bool)
+    if kind == "float":
+        if not is_number:
+            raise fail("a number")
+        if not math.isfinite(value):
+            raise fail("a finite number")
+        return float(value)
+    if kind == "int":
+        if isinstance(value, bool) or not isinstance(value, int):
+            raise fail("an integer")
+        return value
+    if kind == "str":
+        if not isinstance(value, str):
+            raise fail("a string")
+        return value
+    if kind == "bool":
+        if not isinstance(value, bool):
+            raise fail("true or false")
+        return value
+    if kind == "values":
+        if isinstance(value, str):
+            return value
+        if is_number:
+            return repr(float(value))
+        if (
+            isinstance(value, list)
+            and value
+            and all(isinstance(v, (int, float)) and not isinstance(v, bool) for v in value)
+        ):
+            return ",".join(repr(float(v)) for v in value)
+        raise fail('a range string "start:stop:count", a number or a list of numbers')
+    if kind == "params":
+        items = [value] if isinstance(value, str) else value
+        if not isinstance(items, list) or not items or not all(isinstance(v, str) for v in items):
+            raise fail('a string "NAME=RANGE" or a list of them')
+        return list(items)
+    if kind == "state":
+        if isinstance(value, str):
+            return value
+        if (
+            isinstance(value, list)
+            and len(value) == 4
+            and all(isinstance(v, (int, float)) and not isinstance(v, bool) for v in value)
+        ):
+            return ",".join(repr(float(v)) for v in value)
+        raise fail("four numbers y,ydot,x,xdot (a list or a string)")
+    raise AssertionError(kind)  # pragma: no cover - the schemas above use known kinds
+
+
+def gather(args: argparse.Namespace, command: str) -> Options:
+    """(Parameters, options) from the ``--config`` file, then the flags (flags win)."""
+    from microslip.io.config import command_options, load_config, parameters_from_config
+    from microslip.model.parameters import Parameters
+
+    schema = SCHEMAS[command]
+    param_values: dict[str, Any] = {}
+    opts = Options(params=None)
+    if args.config is not None:
+        data = load_config(args.config)
+        source = str(args.config)
+        param_values.update(parameters_from_config(data, source))
+        where = f"{source} [{command}]"
+        for key, value in command_options(data, command, set(schema), source).items():
+            opts.values[key] = _typed(schema[key], key, value, where)
+            opts.origin[key] = f"{key} in [{command}] of {source}"
+    for name in Parameters.field_names():
+        if getattr(args, name) is not None:
+            param_values[name] = getattr(args, name)
+    for name in schema:
+        value = getattr(args, name, None)
+        if value is not None:
+            opts.values[name] = value
+            opts.origin[name] = "--" + name.replace("_", "-")
+    opts.params = Parameters(**param_values)
+    return opts
+
+
+def finite(text: str) -> float:
+    """argparse type: a finite float, else a one-line error (argparse names the flag)."""
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"not a number: {text!r}") from None
+    if not np.isfinite(value):
+        raise argparse.ArgumentTypeError(f"must be finite, got {text!r}")
+    return value
