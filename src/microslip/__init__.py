@@ -3,37 +3,52 @@
 Implements the model of Grudziński & Kostek (2005), J. Theor. Appl. Mech. 43(1):
 a slider on a power-law compliant contact that may lose contact, under a constant
 tangential force and Coulomb friction, with exact stick and located switching.
+
+The public names are imported on first use (PEP 562), so ``import microslip`` and the
+command line start without loading numba, xarray or dask: a Ctrl-C during start-up
+then reaches the command line's own handler (one line, exit 130). Every module that
+defines jitted functions imports :mod:`microslip._jit_cache` itself, before numba
+decorates anything, so its cache can never serve stale machine code.
 """
 
-# First, before any jitted function is decorated: numba's on-disk cache keyed on the
-# whole reachable source, so an edit of any module is always compiled afresh.
-from microslip import _jit_cache  # noqa: F401  (sorts first; keep it first)
-from microslip.analysis.free_vibration import (
-    free_frequency,
-    free_period,
-    normal_energy,
-    turning_points,
-)
-from microslip.analysis.steady_state import StickSlipCycle, mean_velocity, stick_slip_cycle
-from microslip.model.parameters import Parameters
-from microslip.results import SimulationResult
-from microslip.simulation import simulate
-from microslip.sweeps import sweep, velocity_map
+from __future__ import annotations
+
+import importlib
+from typing import Any
 
 __version__ = "0.1.0"
 
-__all__ = [
-    "Parameters",
-    "SimulationResult",
-    "StickSlipCycle",
-    "__version__",
-    "free_frequency",
-    "free_period",
-    "mean_velocity",
-    "normal_energy",
-    "simulate",
-    "stick_slip_cycle",
-    "sweep",
-    "turning_points",
-    "velocity_map",
-]
+# public name -> module that defines it
+_EXPORTS = {
+    "Parameters": "microslip.model.parameters",
+    "SimulationResult": "microslip.results",
+    "StickSlipCycle": "microslip.analysis.steady_state",
+    "WorkLimitError": "microslip.budget",
+    "free_frequency": "microslip.analysis.free_vibration",
+    "free_period": "microslip.analysis.free_vibration",
+    "mean_velocity": "microslip.analysis.steady_state",
+    "normal_energy": "microslip.analysis.free_vibration",
+    "simulate": "microslip.simulation",
+    "stick_slip_cycle": "microslip.analysis.steady_state",
+    "sweep": "microslip.sweeps",
+    "turning_points": "microslip.analysis.free_vibration",
+    "velocity_map": "microslip.sweeps",
+}
+_SUBPACKAGES = ("analysis", "budget", "integrators", "io", "model", "plotting", "sweeps")
+
+__all__ = ["__version__", *sorted(_EXPORTS)]
+
+
+def __getattr__(name: str) -> Any:
+    if name in _EXPORTS:
+        value = getattr(importlib.import_module(_EXPORTS[name]), name)
+    elif name in _SUBPACKAGES:
+        value = importlib.import_module(f"microslip.{name}")
+    else:
+        raise AttributeError(f"module 'microslip' has no attribute {name!r}")
+    globals()[name] = value  # later look-ups skip this function
+    return value
+
+
+def __dir__() -> list[str]:
+    return sorted(set(globals()) | set(_EXPORTS) | set(_SUBPACKAGES))

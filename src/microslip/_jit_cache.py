@@ -17,8 +17,9 @@ The root is ``$MICROSLIP_CACHE_DIR`` if set, else ``$XDG_CACHE_HOME/microslip``,
 ``~/.cache/microslip``. If it is not writable the kernels are cached in a private
 temporary directory removed at exit: every process compiles afresh, still correct.
 
-It must be imported before any jitted function is decorated, hence first thing in
-``microslip/__init__.py``; Dask workers import microslip too and get the same cache.
+It must be imported before any jitted function is decorated: every module that imports
+numba imports this one at its top (a test checks it), so the locator is in place whichever
+module is loaded first; Dask workers import microslip too and get the same cache.
 Setting ``NUMBA_CACHE_LOCATOR_CLASSES`` replaces every locator, this one included, and
 so brings back numba's per-file keys.
 """

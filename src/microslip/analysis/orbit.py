@@ -16,6 +16,7 @@ import math
 import numpy as np
 from numba import njit
 
+from microslip import _jit_cache  # noqa: F401  (registers the cache before any @njit)
 from microslip.integrators.methods import DP54, advance
 from microslip.model.coefficients import AREA_CN, EXPONENT, GRAVITY, MASS
 from microslip.model.contact import normal_acceleration

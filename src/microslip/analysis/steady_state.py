@@ -27,6 +27,7 @@ from dataclasses import dataclass
 import numpy as np
 from numba import njit, prange
 
+from microslip import _jit_cache  # noqa: F401  (registers the cache before any @njit)
 from microslip import validation as check
 from microslip.analysis import orbit
 from microslip.model.coefficients import AREA_CN, EXPONENT, GRAVITY, MASS, MU, pack

@@ -58,6 +58,7 @@ from dataclasses import dataclass
 import numpy as np
 from numba import njit, parallel_chunksize, prange
 
+from microslip import _jit_cache  # noqa: F401  (registers the cache before any @njit)
 from microslip.integrators.methods import RK4
 from microslip.integrators.steppers import rk4_step
 from microslip.integrators.switching import apply_switch, first_switch, initial_direction

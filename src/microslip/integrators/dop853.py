@@ -8,6 +8,7 @@ import math
 
 from numba import njit
 
+from microslip import _jit_cache  # noqa: F401  (registers the cache before any @njit)
 from microslip.integrators.steppers import derivatives
 
 

@@ -11,6 +11,7 @@ from microslip.integrators.methods import DOP853, RK4
 from microslip.integrators.switching import EVENT_NAMES, initial_direction
 
 METHODS = {"rk4": RK4, "event": DOP853}
+MAX_STEPS_PER_CALL = 1 << 20  # steps of one kernel call when every n-th step is kept
 
 
 @dataclass(frozen=True)
@@ -48,6 +49,10 @@ def integrate(
     Inputs are assumed validated (see :func:`microslip.simulate`).
     """
     code = METHODS[method]
+    if t_eval is None:
+        # Ctrl-C reaches Python only between kernel calls: a call ends when its output
+        # buffer is full, so bound its steps (~1e6, well under a second) by the buffer.
+        buffer_size = int(min(buffer_size, max(64, MAX_STEPS_PER_CALL // save_every)))
     atol = np.zeros(4) if atol is None else np.asarray(atol, dtype=float)
     t_eval = np.empty(0) if t_eval is None else np.asarray(t_eval, dtype=float)
     s0 = tuple(float(v) for v in state0)

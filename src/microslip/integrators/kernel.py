@@ -9,6 +9,7 @@ from __future__ import annotations
 
 from numba import njit
 
+from microslip import _jit_cache  # noqa: F401  (registers the cache before any @njit)
 from microslip.integrators.methods import CONTROLLER_EXPONENT, RK4, advance
 from microslip.integrators.switching import apply_switch, first_switch
 

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 from numba import njit
 
+from microslip import _jit_cache  # noqa: F401  (registers the cache before any @njit)
 from microslip.integrators.dop853 import dop853_step
 from microslip.integrators.steppers import dp54_step, rk4_step
 

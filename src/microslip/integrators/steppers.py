@@ -11,6 +11,7 @@ import math
 
 from numba import njit
 
+from microslip import _jit_cache  # noqa: F401  (registers the cache before any @njit)
 from microslip.model.contact import normal_acceleration
 from microslip.model.friction import slip_acceleration
 

@@ -16,6 +16,7 @@ from __future__ import annotations
 
 from numba import njit
 
+from microslip import _jit_cache  # noqa: F401  (registers the cache before any @njit)
 from microslip.integrators.methods import advance
 from microslip.model.coefficients import MASS
 from microslip.model.contact import normal_acceleration

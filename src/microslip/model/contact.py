@@ -10,6 +10,7 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
+from microslip import _jit_cache  # noqa: F401  (registers the cache before any @njit)
 from microslip.model.coefficients import AREA_CN, EXPONENT, GRAVITY, MASS
 from microslip.model.parameters import Parameters
 

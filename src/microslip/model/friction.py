@@ -5,6 +5,7 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
+from microslip import _jit_cache  # noqa: F401  (registers the cache before any @njit)
 from microslip.model.coefficients import FORCE, MASS, MU
 from microslip.model.contact import reaction, reaction_rate
 
