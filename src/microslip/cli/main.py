@@ -15,6 +15,7 @@ from __future__ import annotations
 import argparse
 import os
 import sys
+import warnings
 from pathlib import Path
 
 from microslip.cli.commands import ALL_FIGURES, cmd_figures, cmd_info, cmd_simulate, cmd_sweep
@@ -208,6 +209,14 @@ def _fail(command: str, message: str, status: int = EXIT_USAGE) -> int:
     return status
 
 
+def _warning_line(command: str):
+    def show(message, category, filename, lineno, file=None, line=None) -> None:
+        kind = "warning" if category in (UserWarning, RuntimeWarning) else category.__name__
+        print(f"microslip {command}: {kind}: {_one_line(str(message))}", file=sys.stderr)
+
+    return show
+
+
 def main(argv: list[str] | None = None) -> int:
     """Run the command line ``argv`` (default ``sys.argv[1:]``); returns the exit status."""
     debug = os.environ.get("MICROSLIP_DEBUG", "") not in ("", "0")
@@ -216,7 +225,10 @@ def main(argv: list[str] | None = None) -> int:
         argv = sys.argv[1:] if argv is None else list(argv)
         args = build_parser().parse_args(_join_negative_numbers(argv))
         command = args.command
-        with running(["microslip", *argv]):  # the `history` of the files written
+        with running(["microslip", *argv]), warnings.catch_warnings():
+            # `running`: the `history` of the files written. Warnings (a damaged chunk
+            # recomputed, F > mu m g, ...) are one line each, like errors.
+            warnings.showwarning = _warning_line(command)
             return args.handler(args)
     except SystemExit as stop:  # argparse: --help, --version or a usage error (printed)
         return stop.code if isinstance(stop.code, int) else int(stop.code is not None)
