@@ -7,9 +7,11 @@ import matplotlib.image
 import numpy as np
 import pytest
 import xarray as xr
+from scipy.optimize import brentq
 
 import microslip as ms
-from microslip.plotting import figure3, write_paper_figures
+from microslip.plotting import figure3, paper, write_paper_figures
+from microslip.plotting.figures import write_figure7
 from microslip.results import FLIGHT, SLIP, STICK
 
 NAMES = ("fig2", "fig3", "fig4", "fig5", "fig6")
@@ -21,20 +23,35 @@ F = 0.5  # the paper's tangential drive in Figs. 4-6 [N]
 
 @pytest.fixture(scope="module")
 def out(tmp_path_factory):
+    """Every figure written once (low dpi, for speed); the Figure objects are kept."""
     directory = tmp_path_factory.mktemp("figures")
     messages: list[str] = []
-    paths = write_paper_figures(directory, progress=messages.append)
-    return directory, paths, messages
+    drawn: dict = {}
+    patch = pytest.MonkeyPatch()
+    for name, draw in paper.FIGURES.items():
+        patch.setitem(
+            paper.FIGURES, name, lambda p, draw=draw, name=name: drawn.setdefault(name, draw(p))
+        )
+    try:
+        paths = write_paper_figures(directory, progress=messages.append, dpi=30)
+    finally:
+        patch.undo()
+    return directory, paths, messages, {name: fig for name, (fig, _ds) in drawn.items()}
 
 
 @pytest.fixture(scope="module")
 def data(out):
-    directory, _paths, _messages = out
+    directory = out[0]
     loaded = {}
     for name in NAMES:
         with xr.open_dataset(directory / f"{name}.nc") as ds:
             loaded[name] = ds.load()
     return loaded
+
+
+@pytest.fixture(scope="module")
+def figures(out):
+    return out[3]
 
 
 def plateaus(x: np.ndarray, state: np.ndarray) -> np.ndarray:
@@ -43,11 +60,33 @@ def plateaus(x: np.ndarray, state: np.ndarray) -> np.ndarray:
     return x[np.flatnonzero(np.diff(np.r_[0, stick]) == 1)]
 
 
+def lowest_point(params: ms.Parameters, amplitude: float) -> float:
+    """y_max [m] of the free vibration from rest at y0 - A (0 <= A <= y0): the energy
+    integral of (2.4), S c_n (y^(m2+1) - y_min^(m2+1)) / (m2+1) = m g (y - y_min)."""
+    k, m2, w = params.stiffness_coefficient, params.m2, params.mass * params.g
+    y_min = params.static_deflection - amplitude
+
+    def work(y):
+        return k * (y ** (m2 + 1) - y_min ** (m2 + 1)) / (m2 + 1) - w * (y - y_min)
+
+    y0 = params.static_deflection
+    return brentq(work, y0, 10 * y0, xtol=1e-15 * y0, rtol=1e-14)
+
+
+def curves(ax, text: str = "") -> list:
+    """The data lines of an axes (not the reference lines), those labelled with ``text``."""
+    return [
+        line
+        for line in ax.get_lines()
+        if np.size(line.get_xdata()) > 2 and text in str(line.get_label())
+    ]
+
+
 # -- files ------------------------------------------------------------------------------
 
 
 def test_every_figure_is_written_with_its_data_and_nothing_else(out):
-    directory, paths, messages = out
+    directory, paths, messages, _figures = out
     expected = [directory / f"{n}.{ext}" for n in NAMES for ext in ("png", "nc")]
     assert paths == expected
     assert sorted(p.name for p in directory.iterdir()) == sorted(p.name for p in expected)
@@ -55,16 +94,77 @@ def test_every_figure_is_written_with_its_data_and_nothing_else(out):
 
 
 @pytest.mark.parametrize("name", NAMES)
-def test_png_is_a_real_picture(out, name):
-    directory, _paths, _messages = out
-    path = directory / f"{name}.png"
-    assert path.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
-    assert path.stat().st_size > 50_000
-    image = matplotlib.image.imread(path)
-    assert image.shape[0] >= 900 and image.shape[1] >= 1100
+def test_png_shows_the_figure_at_the_requested_size(out, name):
+    directory, _paths, _messages, figures = out
+    image = matplotlib.image.imread(directory / f"{name}.png")
+    width, height = figures[name].get_size_inches() * 30  # dpi=30
+    assert image.shape[:2] == (round(height), round(width))
     grey = image[..., :3].mean(axis=-1)
-    assert grey.std() > 0.05  # not blank
     assert (grey < 0.5).mean() > 0.005  # has lines and text
+
+
+# Axis labels of the paper's data, with their units (panel by panel, as drawn).
+T, Y, YD = "$t$ [ms]", "$y$ [µm]", r"$\dot y$ [mm/s]"
+LABELS = {
+    "fig2": [
+        ("deflection $y$ [µm]", "load $|R|$ [N]"),
+        (T, Y + " (penetration)"),
+        (T, YD),
+        (Y, YD),
+    ],
+    "fig3": [("", Y + " (penetration)"), (T, "force [N]")],
+    "fig5": [
+        (T, "$F$, $F_t$ [N]"),
+        (T, "$F$, $F_t$ [N]"),
+        (r"$\dot x$ [µm/s]", r"$|F_t| = \mu|R|$ [N]"),
+        (T, r"$\dot x$ [µm/s]"),
+        (T, r"$\dot x$ [µm/s]"),
+        ("$x - x_r$ [nm] (from the release $x_r$ of each slip)", r"$\dot x$ [µm/s]"),
+    ],
+    "fig6": [
+        (T, Y + " (penetration)"),
+        (T, YD),
+        (Y, YD),
+        (T, "$|R|$ [N]"),
+        (T, "$|F_t|$, $F$ [N]"),
+        (T, "$x$ [nm]"),
+        (T, r"$\dot x$ [µm/s]"),
+        (T, r"$\ddot x$ [m/s$^2$]"),
+    ],
+}
+FIG4_ROWS = [
+    Y, YD, r"$\ddot y$ [m/s$^2$]", "$|R|$ [N]", "$|F_t|$, $F$ [N]", "$x$ [nm]",
+    r"$\dot x$ [µm/s]", r"$\ddot x$ [m/s$^2$]",
+]  # fmt: skip
+
+
+@pytest.mark.parametrize("name", sorted(LABELS))
+def test_panels_and_axis_labels_with_units(figures, name):
+    axes = figures[name].axes
+    assert [(ax.get_xlabel(), ax.get_ylabel()) for ax in axes] == LABELS[name]
+    assert all(curves(ax) for ax in axes)  # every panel draws data
+
+
+def test_fig4_is_an_8_by_4_grid_labelled_by_row(figures):
+    axes = np.array(figures["fig4"].axes).reshape(8, 4)
+    assert [ax.get_ylabel() for ax in axes[:, 0]] == FIG4_ROWS
+    assert all(ax.get_ylabel() == "" for ax in axes[:, 1:].ravel())
+    assert [ax.get_xlabel() for ax in axes[-1]] == [T] * 4
+    assert all(curves(ax) for ax in axes.ravel())
+
+
+def test_plotted_curves_are_the_saved_data_in_the_labelled_units(figures, data):
+    """The numbers on the axes are the NetCDF data times the factor its label names."""
+    ds = data["fig4"]
+    axes = np.array(figures["fig4"].axes).reshape(8, 4)
+    factors = {"y": 1e6, "ydot": 1e3, "R": 1.0, "x": 1e9, "xdot": 1e6, "xddot": 1.0}
+    rows = {"y": 0, "ydot": 1, "R": 3, "x": 5, "xdot": 6, "xddot": 7}
+    for column in range(4):
+        for name, row in rows.items():
+            (line,) = curves(axes[row, column])
+            np.testing.assert_allclose(line.get_xdata(), ds["time"].values * 1e3, rtol=1e-15)
+            expected = ds[name].isel(amplitude=column).values * factors[name]
+            np.testing.assert_allclose(line.get_ydata(), expected, rtol=1e-15, atol=0)
 
 
 @pytest.mark.parametrize("name", NAMES)
@@ -80,6 +180,57 @@ def test_netcdf_variables_and_coordinates_carry_units(data, name):
     assert np.all(np.diff(ds["time"].values) > 0)
 
 
+def test_fig2_plotted_trajectories_span_the_turning_points(figures):
+    """(b): each y(t) runs from y0 - A (its start, at rest) to the lowest point that the
+    energy integral gives; (a): the characteristic passes through C = (y0, m g)."""
+    ax_a, ax_b = figures["fig2"].axes[:2]
+    lines = curves(ax_b, "$A =")
+    assert len(lines) == 3
+    for line, ratio in zip(lines, (1 / 3, 2 / 3, 1.0), strict=True):
+        y = np.asarray(line.get_ydata()) / 1e6
+        assert y.min() == pytest.approx(Y0 - ratio * Y0, rel=1e-12, abs=1e-12 * Y0)
+        assert y.max() == pytest.approx(lowest_point(P, ratio * Y0), rel=1e-4)
+    (characteristic,) = curves(ax_a, "S c_n")
+    r_at_y0 = np.interp(Y0 * 1e6, characteristic.get_xdata(), characteristic.get_ydata())
+    assert r_at_y0 == pytest.approx(WEIGHT, rel=1e-4)
+
+
+def test_fig3_plotted_reaction_peaks_at_three_mg(figures):
+    ax_b = figures["fig3"].axes[1]
+    (reaction,) = curves(ax_b, "normal reaction")
+    (friction,) = curves(ax_b, "F_t")
+    assert np.max(reaction.get_ydata()) == pytest.approx(3 * WEIGHT, rel=1e-3)
+    assert np.max(friction.get_ydata()) == pytest.approx(3 * P.mu * WEIGHT, rel=1e-3)
+    assert ax_b.get_ylim()[1] > 3 * WEIGHT  # the peak is inside the frame
+
+
+def test_fig7_boundary_and_labels(tmp_path):
+    """Fig. 7 for the paper's data: labels with units, and the drawn no-sliding boundary
+    is F = mu S c_n (y0 - A)^m2 (eq. 4.2), computed here from the constants."""
+    from microslip.plotting import velocity_map_figure
+
+    nc, _png = write_figure7(tmp_path, P, dpi=20)
+    with xr.open_dataset(nc) as ds:
+        ds = ds.load()
+    for key in [*ds.data_vars, *ds.coords]:
+        assert ds[key].attrs.get("units"), key
+    fig = velocity_map_figure(ds, P)
+    surface, contour, colorbar = fig.axes
+    assert (surface.get_xlabel(), surface.get_ylabel(), surface.get_zlabel()) == (
+        "F [N]", "A [µm]", "v [10⁻⁴ m/s]"
+    )  # fmt: skip
+    assert (contour.get_xlabel(), contour.get_ylabel()) == (
+        "tangential force F [N]", "vibration amplitude A [µm]"
+    )  # fmt: skip
+    assert colorbar.get_ylabel() == "v [10⁻⁴ m/s]"
+    (boundary,) = curves(contour, "no-sliding boundary")
+    a = np.asarray(boundary.get_ydata()) * 1e-6
+    expected = P.mu * P.area * P.c_n * np.clip(Y0 - a, 0.0, None) ** 2
+    np.testing.assert_allclose(boundary.get_xdata(), expected, rtol=1e-12, atol=1e-15)
+    assert a.max() == pytest.approx(3e-7)
+    assert ds["force"].values.min() == 0.05 and ds["force"].values.max() == 0.95
+
+
 def test_failed_write_leaves_no_file(tmp_path, monkeypatch):
     def broken_savefig(self, fname, *args, **kwargs):
         with open(fname, "wb") as handle:
@@ -87,7 +238,8 @@ def test_failed_write_leaves_no_file(tmp_path, monkeypatch):
         raise OSError("disk full")
 
     monkeypatch.setattr(matplotlib.figure.Figure, "savefig", broken_savefig)
-    with pytest.raises(OSError, match="disk full"):
+    # the OSError comes back as one line naming the file (OutputError, a ValueError)
+    with pytest.raises(ValueError, match=r"fig3\.png.*disk full"):
         write_paper_figures(tmp_path, figures=("fig3",))
     assert list(tmp_path.iterdir()) == []
 

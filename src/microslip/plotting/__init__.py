@@ -9,10 +9,12 @@ from microslip.plotting.paper import (
     figure6,
     write_paper_figures,
 )
+from microslip.plotting.scales import FigureNotDrawable
 from microslip.plotting.velocity_map import sweep_figure, velocity_map_figure
 
 __all__ = [
     "FIGURES",
+    "FigureNotDrawable",
     "figure2",
     "figure3",
     "figure4",

@@ -9,10 +9,31 @@ import numpy as np
 
 from microslip.io.output import write_dataset
 from microslip.model.parameters import Parameters
+from microslip.plotting.scales import (
+    FigureNotDrawable,
+    combine_refusals,
+    figure_scales,
+    require_friction,
+)
 
-# Fig. 7 grid: the paper's range of F below μ m g and of A up to past loss of contact.
+__all__ = ["FIG7_AMPLITUDES", "FIG7_FORCES", "fig7_grid", "write_figure7", "write_figures"]
+
+# Fig. 7 grid for the paper's data: F below μ m g = 0.981 N, A up to past loss of contact
+# (y0 = 0.225 µm). Other data: F times μ m g and A times y0 relative to the paper's.
 FIG7_FORCES = np.linspace(0.05, 0.95, 181)  # [N]
 FIG7_AMPLITUDES = np.linspace(0.0, 3.0e-7, 151)  # [m]
+
+
+def fig7_grid(params: Parameters) -> tuple[np.ndarray, np.ndarray]:
+    """Forces [N] and amplitudes [m] of the Fig. 7 map for ``params``.
+
+    The paper's grid, with F scaled by μ m g and A by y0, so that it covers the same
+    part of the map (F/(μ m g) from 0.05 to 0.97, A/y0 from 0 to 1.33).
+    FigureNotDrawable for μ = 0, where every F > 0 accelerates the slider for ever.
+    """
+    require_friction(params, "fig7")
+    scales = figure_scales(params)
+    return FIG7_FORCES * scales.force_ratio, FIG7_AMPLITUDES * scales.length_ratio
 
 
 def write_figure7(out_dir: Path, params: Parameters, dpi: int = 150) -> list[Path]:
@@ -20,9 +41,8 @@ def write_figure7(out_dir: Path, params: Parameters, dpi: int = 150) -> list[Pat
     from microslip.plotting.velocity_map import write_velocity_map_plot
     from microslip.sweeps import SweepSpec, run_sweep
 
-    spec = SweepSpec.build(
-        params, None, FIG7_FORCES, FIG7_AMPLITUDES, amplitude_chunk=FIG7_AMPLITUDES.size
-    )
+    forces, amplitudes = fig7_grid(params)
+    spec = SweepSpec.build(params, None, forces, amplitudes, amplitude_chunk=amplitudes.size)
     ds = run_sweep(spec)
     return [
         write_dataset(ds, out_dir / "fig7.nc"),
@@ -38,17 +58,36 @@ def write_figures(
     dpi: int = 150,
     progress: Callable[[str], None] | None = None,
 ) -> list[Path]:
-    """Write ``figN.png`` and ``figN.nc`` for each requested figure into ``out_dir``."""
+    """Write ``figN.png`` and ``figN.nc`` for each requested figure into ``out_dir``.
+
+    Returns the files written. A figure that has no meaning for ``params`` (Figs. 4–7
+    for μ = 0) is skipped; after the others are written, :class:`FigureNotDrawable`
+    (a ValueError) names each skipped figure and why, with the written files in its
+    ``written`` attribute.
+    """
     from microslip.plotting.paper import write_paper_figures
 
     params = Parameters() if params is None else params
     out_dir = Path(out_dir)
     say = progress or (lambda message: None)
     paths: list[Path] = []
+    refused: list[FigureNotDrawable] = []
     time_domain = tuple(n for n in names if n != "fig7")
     if time_domain:
-        paths += write_paper_figures(out_dir, params, figures=time_domain, dpi=dpi, progress=say)
+        try:
+            paths += write_paper_figures(
+                out_dir, params, figures=time_domain, dpi=dpi, progress=say
+            )
+        except FigureNotDrawable as error:
+            paths += error.written
+            refused.append(error)
     if "fig7" in names:
         say("fig7: mean sliding velocity map v(F, A)")
-        paths += write_figure7(out_dir, params, dpi=dpi)
+        try:
+            paths += write_figure7(out_dir, params, dpi=dpi)
+        except FigureNotDrawable as error:
+            say(f"fig7: not drawn: {error.reason}")
+            refused.append(error)
+    if refused:
+        raise combine_refusals(refused, paths)
     return paths

@@ -14,42 +14,68 @@ from matplotlib.ticker import MaxNLocator
 
 from microslip.io.output import write_atomically
 from microslip.model.parameters import Parameters
+from microslip.plotting.scales import Unit, prefixed_unit
 
 MAX_PANELS = 24  # maps in one sweep plot
 MAX_CURVES = 12  # curves in one sweep plot
 _INPUTS = ("force", "amplitude")
+# Largest values of the paper's Fig. 7, plotted in N, µm and 10⁻⁴ m/s; other ranges move
+# these units by SI prefixes (F, A) or decades (v) so the plotted numbers stay alike.
+_PAPER_F, _PAPER_A, _PAPER_V = 0.95, 3.0e-7, 2.0e-4  # [N], [m], [m/s]
+_SUPERSCRIPT = str.maketrans("-0123456789", "⁻⁰¹²³⁴⁵⁶⁷⁸⁹")
 
 
-def _map_values(v: xr.DataArray) -> np.ndarray:
-    """v(F, A) as an (amplitude, force) array in 10⁻⁴ m/s, NaN where v is not finite."""
+def _peak(values: np.ndarray) -> float:
+    finite = np.abs(np.asarray(values, dtype=float))
+    finite = finite[np.isfinite(finite)]
+    return float(finite.max()) if finite.size else 0.0
+
+
+def _map_units(ds: xr.Dataset | xr.DataArray) -> tuple[Unit, Unit, Unit]:
+    """Plotted units of F, A and v for the values in ``ds`` (the paper's for Fig. 7)."""
+    f_unit = prefixed_unit("N", 0, _peak(ds["force"].values) / _PAPER_F)
+    a_unit = prefixed_unit("m", -6, _peak(ds["amplitude"].values) / _PAPER_A)
+    v_peak = _peak(ds["mean_velocity"].values)
+    shift = round(np.log10(v_peak / _PAPER_V)) if v_peak > 0 else 0
+    exponent = -4 + int(shift)
+    return f_unit, a_unit, Unit(10.0**-exponent, f"10{str(exponent).translate(_SUPERSCRIPT)} m/s")
+
+
+def _map_values(v: xr.DataArray, v_unit: Unit) -> np.ndarray:
+    """v(F, A) as an (amplitude, force) array in ``v_unit``, NaN where v is not finite."""
     values = v.transpose("amplitude", "force").values
-    return np.where(np.isfinite(values), values, np.nan) * 1e4
+    return np.where(np.isfinite(values), values, np.nan) * v_unit.factor
 
 
 def _velocity_levels(values: np.ndarray) -> np.ndarray:
-    """Contour levels [10⁻⁴ m/s] from 0 to the largest finite value."""
+    """Contour levels (plotted velocity unit) from 0 to the largest finite value."""
     finite = values[np.isfinite(values)]
     top = finite.max() if finite.size and finite.max() > 0 else 1.0
     return MaxNLocator(nbins=20).tick_values(0.0, top)
 
 
-def _map_panel(ax, v: xr.DataArray, params: Parameters, levels: np.ndarray):
+def _map_panel(ax, v: xr.DataArray, params: Parameters, levels: np.ndarray, units: tuple):
     """Filled contours of v(F, A) with the analytic no-sliding boundary
-    F = μ S c_n max(y0 - A, 0)^m2, the contact-loss line A = y0 and F >= μ m g hatched.
-    Returns the contour set (for a colorbar)."""
-    forces = v["force"].values
-    amps_um = v["amplitude"].values * 1e6
-    filled = ax.contourf(forces, amps_um, _map_values(v), levels=levels, cmap="viridis")
-    amp_line = np.linspace(amps_um.min(), amps_um.max(), 400)
-    boundary = [params.motion_threshold(a * 1e-6) for a in amp_line]
-    ax.plot(boundary, amp_line, color="white", lw=2.0, label="no-sliding boundary (analytic)")
+    F = μ S c_n max(y0 - A, 0)^m2, the contact-loss line A = y0 and F >= μ m g hatched,
+    in ``units`` (F, A, v; see :func:`_map_units`). Returns the contour set (for a colorbar)."""
+    f_unit, a_unit, v_unit = units
+    amplitudes = v["amplitude"].values
+    forces = v["force"].values * f_unit.factor
+    amps = amplitudes * a_unit.factor
+    filled = ax.contourf(forces, amps, _map_values(v, v_unit), levels=levels, cmap="viridis")
+    amp_line = np.linspace(amplitudes.min(), amplitudes.max(), 400)
+    boundary = [params.motion_threshold(a) * f_unit.factor for a in amp_line]
+    ax.plot(
+        boundary, amp_line * a_unit.factor, color="white", lw=2.0,
+        label="no-sliding boundary (analytic)",
+    )  # fmt: skip
     ax.axhline(
-        params.static_deflection * 1e6, color="tab:red", lw=1.5, ls="--",
+        params.static_deflection * a_unit.factor, color="tab:red", lw=1.5, ls="--",
         label="A = y0 (loss of contact above)",
     )  # fmt: skip
-    _mark_no_steady_state(ax, params, forces)
+    _mark_no_steady_state(ax, params, v["force"].values, f_unit.factor)
     ax.set_xlim(forces.min(), forces.max())
-    ax.set_ylim(amps_um.min(), amps_um.max())
+    ax.set_ylim(amps.min(), amps.max())
     return filled
 
 
@@ -60,29 +86,31 @@ def velocity_map_figure(ds: xr.Dataset, params: Parameters | None = None) -> Fig
     v = ds["mean_velocity"]
     if set(v.dims) != {"force", "amplitude"}:
         raise ValueError(f"a velocity map needs dims (force, amplitude), got {v.dims}")
-    forces = ds["force"].values
-    values = _map_values(v)
+    units = f_unit, a_unit, v_unit = _map_units(ds)
+    forces = ds["force"].values * f_unit.factor
+    values = _map_values(v, v_unit)
 
     fig = Figure(figsize=(12.0, 5.2), layout="constrained")
     ax3 = fig.add_subplot(1, 2, 1, projection="3d")
-    ff, aa = np.meshgrid(forces, ds["amplitude"].values * 1e6)
+    ff, aa = np.meshgrid(forces, ds["amplitude"].values * a_unit.factor)
     ax3.plot_surface(ff, aa, values, cmap="viridis", linewidth=0, antialiased=True)
-    ax3.set_xlabel("F [N]")
-    ax3.set_ylabel("A [µm]")
-    ax3.set_zlabel("v [10⁻⁴ m/s]")
+    ax3.set_xlabel(f_unit.label("F"))
+    ax3.set_ylabel(a_unit.label("A"))
+    ax3.set_zlabel(v_unit.label("v"))
     ax3.view_init(elev=28, azim=-125)
     ax3.set_title("(a) mean sliding velocity v(F, A)")
 
     ax = fig.add_subplot(1, 2, 2)
-    filled = _map_panel(ax, v, params, _velocity_levels(values))
-    fig.colorbar(filled, ax=ax, label="v [10⁻⁴ m/s]")
-    ax.set_xlabel("tangential force F [N]")
-    ax.set_ylabel("vibration amplitude A [µm]")
+    filled = _map_panel(ax, v, params, _velocity_levels(values), units)
+    fig.colorbar(filled, ax=ax, label=v_unit.label("v"))
+    ax.set_xlabel(f_unit.label("tangential force F"))
+    ax.set_ylabel(a_unit.label("vibration amplitude A"))
     ax.set_title(
-        f"(b) v(F, A); μ = {params.mu:.3g}, F_t0 = μ m g = {params.static_friction_force:.3g} N"
+        f"(b) v(F, A); μ = {params.mu:.3g}, "
+        f"F_t0 = μ m g = {params.static_friction_force * f_unit.factor:.3g} {f_unit.symbol}"
     )
-    y0_um = params.static_deflection * 1e6
-    ax.text(0.05 * forces.max() + 0.95 * forces.min(), 0.08 * y0_um, "no sliding", color="white")
+    y0_plot = params.static_deflection * a_unit.factor
+    ax.text(0.05 * forces.max() + 0.95 * forces.min(), 0.08 * y0_plot, "no sliding", color="white")
     ax.legend(loc="upper right", fontsize=8, framealpha=0.8)
     return fig
 
@@ -138,21 +166,25 @@ def _value_text(ds: xr.Dataset, name: str, index: int) -> str:
     return text if unit in ("", "1") else f"{text} {unit}"
 
 
-def _mark_no_steady_state(ax, params: Parameters, forces: np.ndarray) -> None:
-    """Hatch F >= μ m g, where the slider accelerates for ever (no mean velocity)."""
+def _mark_no_steady_state(ax, params: Parameters, forces: np.ndarray, factor: float = 1.0) -> None:
+    """Hatch F >= μ m g, where the slider accelerates for ever (no mean velocity);
+    ``forces`` [N], plotted times ``factor``."""
     limit = params.static_friction_force
     if limit < forces.max():
-        ax.axvspan(max(limit, forces.min()), forces.max(), facecolor="none", hatch="//",
-                   edgecolor="0.6", linewidth=0.0, label="F ≥ μ m g: no steady state")  # fmt: skip
-        ax.axvline(limit, color="0.3", lw=1.0, ls=":")
+        ax.axvspan(max(limit, forces.min()) * factor, forces.max() * factor, facecolor="none",
+                   hatch="//", edgecolor="0.6", linewidth=0.0,
+                   label="F ≥ μ m g: no steady state")  # fmt: skip
+        ax.axvline(limit * factor, color="0.3", lw=1.0, ls=":")
 
 
 def _axis_label(ds: xr.Dataset, name: str) -> tuple[str, float]:
     """Axis label with unit, and the factor from SI to the plotted unit."""
     if name == "force":
-        return "tangential force F [N]", 1.0
+        unit = prefixed_unit("N", 0, _peak(ds["force"].values) / _PAPER_F)
+        return unit.label("tangential force F"), unit.factor
     if name == "amplitude":
-        return "vibration amplitude A [µm]", 1e6
+        unit = prefixed_unit("m", -6, _peak(ds["amplitude"].values) / _PAPER_A)
+        return unit.label("vibration amplitude A"), unit.factor
     return f"{name} [{ds[name].attrs.get('units', '1')}]", 1.0
 
 
@@ -163,7 +195,8 @@ def _panels_figure(ds: xr.Dataset, params: Parameters) -> Figure:
     fixed = {d: 0 for d in v.dims if d not in _INPUTS and ds.sizes[d] == 1}
     n_cols = ds.sizes[swept[0]]
     n_rows = ds.sizes[swept[1]] if len(swept) == 2 else 1
-    levels = _velocity_levels(v.values * 1e4)
+    units = f_unit, a_unit, v_unit = _map_units(ds)
+    levels = _velocity_levels(v.values * v_unit.factor)
     fig = Figure(figsize=(3.6 * n_cols + 1.2, 3.0 * n_rows + 0.6), layout="constrained")
     axes = fig.subplots(n_rows, n_cols, sharex=True, sharey=True, squeeze=False)
     for row in range(n_rows):
@@ -172,13 +205,15 @@ def _panels_figure(ds: xr.Dataset, params: Parameters) -> Figure:
             if len(swept) == 2:
                 selection[swept[1]] = row
             ax = axes[row, col]
-            filled = _map_panel(ax, v.isel(selection), _params_at(ds, params, selection), levels)
+            filled = _map_panel(
+                ax, v.isel(selection), _params_at(ds, params, selection), levels, units
+            )
             ax.set_title(", ".join(_value_text(ds, d, selection[d]) for d in swept), fontsize=9)
             if row == n_rows - 1:
-                ax.set_xlabel("F [N]")
+                ax.set_xlabel(f_unit.label("F"))
             if col == 0:
-                ax.set_ylabel("A [µm]")
-    fig.colorbar(filled, ax=axes, label="v [10⁻⁴ m/s]")
+                ax.set_ylabel(a_unit.label("A"))
+    fig.colorbar(filled, ax=axes, label=v_unit.label("v"))
     fig.suptitle(
         "mean sliding velocity v(F, A); white: no-sliding boundary; red dashed: A = y0; "
         "hatched: F ≥ μ m g (no steady state)",
@@ -194,6 +229,7 @@ def _curves_figure(ds: xr.Dataset, params: Parameters) -> Figure:
     x_name = _curve_axis(varying)
     others = [d for d in varying if d != x_name]
     x_label, x_scale = _axis_label(ds, x_name)
+    v_unit = prefixed_unit("m", -6, _peak(v.values) / _PAPER_V, "/s")
     fig = Figure(figsize=(7.5, 4.8), layout="constrained")
     ax = fig.add_subplot()
     for index in np.ndindex(*(ds.sizes[d] for d in others)):
@@ -201,9 +237,9 @@ def _curves_figure(ds: xr.Dataset, params: Parameters) -> Figure:
         selection.update(dict(zip(others, index, strict=True)))
         curve = v.isel(selection).values
         label = ", ".join(_value_text(ds, d, i) for d, i in zip(others, index, strict=True))
-        ax.plot(ds[x_name].values * x_scale, curve * 1e6, marker=".", label=label or None)
+        ax.plot(ds[x_name].values * x_scale, curve * v_unit.factor, marker=".", label=label or None)
     ax.set_xlabel(x_label)
-    ax.set_ylabel("mean sliding velocity v [µm/s]")
+    ax.set_ylabel(v_unit.label("mean sliding velocity v"))
     fixed = [d for d in v.dims if ds.sizes[d] == 1]
     note = "points with F ≥ μ m g (no steady state) are not drawn"
     ax.set_title("; ".join([*(_value_text(ds, d, 0) for d in fixed), note]), fontsize=9)
