@@ -36,7 +36,9 @@ def initial_state_from_amplitude(params: Parameters, amplitude: float) -> tuple[
 
 
 def natural_tolerances(params: Parameters, atol: float) -> np.ndarray:
-    """Absolute tolerances per component, ``atol`` times the natural scales (REFERENCE fact 7).
+    """Absolute tolerances per component: ``atol`` times the natural scales.
+
+    The scales are those of docs/model-facts.md, fact 7.
 
     y: y0 [m], ẏ: y0 ω0 [m/s], x: μ y0 [m], ẋ: μ y0 ω0 [m/s] (μ replaced by 1 when 0).
     """

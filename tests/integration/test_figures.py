@@ -280,7 +280,7 @@ def test_fig3_reaction_spans_zero_to_three_mg(data):
     assert r_abs.max() == pytest.approx(3 * WEIGHT, rel=1e-3)
     assert r_abs.min() <= 1e-3 * WEIGHT
     np.testing.assert_allclose(ds["Ft"].values, P.mu * r_abs, rtol=1e-12)
-    # the mean of |R| over whole periods is m g (REFERENCE fact 4)
+    # the mean of |R| over whole periods is m g (docs/model-facts.md, fact 4)
     t = ds["time"].values
     whole = t <= 3 * float(ds["period"])
     mean = np.trapezoid(r_abs[whole], t[whole]) / (t[whole][-1] - t[whole][0])
@@ -330,7 +330,7 @@ def test_fig4_columns(data):
         assert np.any(column["state"].values == STICK)  # stick-slip, once per period
         steps = np.diff(plateaus(column["x"].values, column["state"].values))
         assert steps.size >= 5
-        # each cycle after the first slides the exact steady distance (REFERENCE fact 6)
+        # each cycle after the first slides the exact steady distance (docs/model-facts.md, fact 6)
         np.testing.assert_allclose(steps, distance[k], rtol=1e-6)
         assert ds["mean_velocity"].values[k] == pytest.approx(
             ms.mean_velocity(P, force=F, amplitude=float(column["amplitude"])), rel=1e-12

@@ -3,7 +3,7 @@
 Used by the validation tests and by the benchmarks (``benchmarks/`` imports it). It
 shares no code with ``microslip``: it reads only the raw fields of a parameter set
 (m, g, S, c_n, m2, μ) and integrates eqs. (2.4)–(2.5) with scipy's DOP853 in the
-natural scales of REFERENCE fact 7,
+natural scales of docs/model-facts.md, fact 7,
 
     η = y / y0,  τ = ω t,  ω = sqrt(g / y0),  ξ = x / y0,
     η'' = 1 − r(η),  ξ'' = s (F/(m g) − μ r(η)),  r(η) = max(η, 0)^m2,
@@ -76,7 +76,7 @@ class Reference:
 
 
 def static_deflection(params) -> float:
-    """y0 = (m g / (S c_n))^(1/m2) [m], closed form (REFERENCE fact 1)."""
+    """y0 = (m g / (S c_n))^(1/m2) [m], closed form (docs/model-facts.md, fact 1)."""
     return (params.mass * params.g / (params.area * params.c_n)) ** (1.0 / params.m2)
 
 
@@ -382,7 +382,7 @@ def steady_mean_velocity(
     """Long-time mean velocity [m/s] from the steady cycle.
 
     After its first stick the motion is periodic with one stick per normal period
-    (REFERENCE fact 6). The first stop still ends the slide that started at t = 0, at
+    (docs/model-facts.md, fact 6). The first stop still ends the slide that started at t = 0, at
     its own phase; from the first release on every cycle is the same, so the mean is
     Δx/Δt between the second and third stick starts (Δt = one normal period). 0 when
     the slider never moves (F <= μ S c_n max(y0 - A, 0)^m2); inf if it never sticks.

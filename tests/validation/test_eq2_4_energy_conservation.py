@@ -1,4 +1,6 @@
-"""Eq. (2.4), REFERENCE facts 2 and 6: the free normal vibration is conservative and periodic.
+"""Eq. (2.4): the free normal vibration is conservative and periodic.
+
+docs/model-facts.md, facts 2 and 6.
 
 E = ½ m ẏ² + V(y), V(y) = S c_n max(y,0)^(m2+1)/(m2+1) − m g y, written out here, must stay
 constant along a simulated run, with or without loss of contact, and whatever the

@@ -1,4 +1,4 @@
-"""REFERENCE fact 2 / Sec. 3, Fig. 2: the period of the free normal vibration (2.4).
+"""docs/model-facts.md, fact 2 / Sec. 3, Fig. 2: the period of the free normal vibration (2.4).
 
 The exact period is the energy integral T(A) = 2 ∫ dy / sqrt(2(E − V(y))/m) between the
 turning points, V(y) = S c_n max(y,0)^(m2+1)/(m2+1) − m g y. It is evaluated here with

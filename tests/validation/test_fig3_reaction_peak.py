@@ -1,4 +1,4 @@
-"""Fig. 3 and REFERENCE facts 3–4: the normal reaction over a free vibration.
+"""Fig. 3 and docs/model-facts.md, facts 3–4: the normal reaction over a free vibration.
 
 * A = y0 (just touching at the top), m2 = 2: |R| runs from 0 to exactly 3 m g ("from
   nearly 0 up to approximately 3 times its static value", Sec. 3). In general, for A = y0

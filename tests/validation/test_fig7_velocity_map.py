@@ -1,8 +1,8 @@
 """Fig. 7: the mean-velocity map v(F, A), checked against independent facts.
 
-- REFERENCE fact 5: v = 0 exactly on the no-motion side of F = μ S c_n max(y0 - A, 0)^m2,
+- docs/model-facts.md, fact 5: v = 0 exactly on the no-motion side of F = μ S c_n max(y0 - A, 0)^m2,
   v > 0 on the other; with loss of contact (A > y0) any F > 0 moves the slider.
-- REFERENCE fact 7: in natural scales the map is μ y0 ω V(F/(μ m g), A/y0; m2), so maps
+- docs/model-facts.md, fact 7: in natural scales the map is μ y0 ω V(F/(μ m g), A/y0; m2), so maps
   for other μ, m, c_n, S, g follow from the paper's by scaling alone.
 - The finite-time average of a time-domain run approaches the steady map.
 """

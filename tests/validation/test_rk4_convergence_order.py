@@ -1,6 +1,6 @@
 """method="rk4" keeps its 4th order through stick–slip and loss of contact.
 
-REFERENCE "Numerical pitfalls": deciding stick or slip once per fixed step drops RK4 to
+docs/model-facts.md, "Numerical pitfalls": deciding stick or slip once per fixed step drops RK4 to
 order 2 (median error 3.7e-4 at h = T0/200). With the switching instants located inside
 the step the observed order must be ≈ 4. The reference is the independent scipy DOP853
 solution of ``scipy_reference.py`` at rtol 1e-13 (its own error, ~1e-12, is far below

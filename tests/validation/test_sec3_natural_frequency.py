@@ -1,6 +1,7 @@
 """Sec. 3 of the paper: static deflection y0 ≈ 2.25e-7 m, K_n = 2 sqrt(m g S c_n), f0 = 1485 Hz.
 
-Also REFERENCE fact 1: y0 = (m g / (S c_n))^(1/m2) and f0 = (1/2π) sqrt(m2 g / y0), and the
+Also docs/model-facts.md, fact 1: y0 = (m g / (S c_n))^(1/m2) and
+f0 = (1/2π) sqrt(m2 g / y0), and the
 free vibration tends to f0 as its amplitude goes to zero.
 """
 

@@ -44,7 +44,7 @@ def turning_points(params: Parameters, amplitude: float) -> tuple[float, float]:
 
 
 def normal_energy(params: Parameters, y: np.ndarray, ydot: np.ndarray) -> np.ndarray:
-    """E = ½ m ẏ² + V(y) [J] (REFERENCE fact 2); constant along a free vibration."""
+    """E = ½ m ẏ² + V(y) [J] (docs/model-facts.md, fact 2); constant along a free vibration."""
     ydot = np.asarray(ydot, dtype=float)
     return 0.5 * params.mass * ydot**2 + potential_energy(params, y)
 

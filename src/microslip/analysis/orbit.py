@@ -1,6 +1,6 @@
 """The free normal vibration as a reusable table: one half period, from the top to the bottom.
 
-The normal motion (2.4) does not depend on x (REFERENCE fact 6), is conservative and
+The normal motion (2.4) does not depend on x (docs/model-facts.md, fact 6), is conservative and
 time-symmetric about its turning points. One half period, from the highest point (rest,
 y = y0 - A) to the lowest (rest, y = y_max), therefore describes the whole periodic motion:
 y(T - t) = y(t) and ẏ(T - t) = -ẏ(t). A loss of contact (y < 0, A > y0) is a free-fall

@@ -1,4 +1,6 @@
-"""Exact steady stick–slip cycle and long-time mean velocity (REFERENCE facts 5–6, Fig. 7).
+"""Exact steady stick–slip cycle and long-time mean velocity (Fig. 7).
+
+See docs/model-facts.md, facts 5–6.
 
 With F >= 0 the slider never moves backwards, and because m ÿ = m g - |R| (2.4) the
 friction impulse is known from the normal velocity alone:

@@ -4,7 +4,7 @@ The friction mode (sliding direction, or stick) is held fixed over a step. After
 trial step the switching functions are checked; when one changes sign its root is found
 by re-stepping the same method from the step start over a fraction θ of the step
 (Illinois false position), so the switching instant carries the method's own accuracy
-and a fixed-step method keeps its order (REFERENCE, "Numerical pitfalls").
+and a fixed-step method keeps its order (docs/model-facts.md, "Numerical pitfalls").
 
 A switching function can cross zero twice inside one step and show no sign change at
 the step ends. For the laws here the relevant extrema are known: the contact gap y and

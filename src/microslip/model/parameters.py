@@ -245,7 +245,7 @@ class Parameters:
 
     @property
     def time_scale(self) -> float:
-        """1/ω with ω = sqrt(g / y0) [s]: the time unit of the natural scales (REFERENCE fact 7)."""
+        """1/ω, ω = sqrt(g / y0) [s]: time unit of the natural scales (docs/model-facts.md)."""
         return math.sqrt(self.static_deflection / self.g)
 
     @property
@@ -266,7 +266,7 @@ class Parameters:
     def motion_threshold(self, amplitude: float) -> float:
         """Smallest force that makes the slider move, μ S c_n max(y0 - A, 0)^m2 [N].
 
-        The slider moves iff F is strictly larger (eq. 4.2; REFERENCE fact 5).
+        The slider moves iff F is strictly larger (eq. 4.2; docs/model-facts.md, fact 5).
         ``amplitude`` is A = y0 - y_min [m].
         """
         top = max(self.static_deflection - float(amplitude), 0.0)

@@ -45,7 +45,7 @@ def sweep(
         [0, 1e3 y0] [m] (for every swept parameter set); always the last two
         dimensions ("force", "amplitude").
     method : {"steady", "time"}
-        "steady": exact long-time mean (REFERENCE fact 6; 0 where the slider never
+        "steady": exact long-time mean (docs/model-facts.md, fact 6; 0 where the slider never
         moves, inf where F > μ m g). "time": batched RK4 with located switching for
         ``duration`` [s] from rest at the top, mean = x(duration)/duration.
     duration : float, optional
