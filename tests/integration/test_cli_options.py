@@ -7,18 +7,10 @@ import sys
 import numpy as np
 import pytest
 import xarray as xr
+from cli_inprocess import MAP, SIM, run
 
 import microslip as ms
 from microslip.cli.main import main
-
-SIM = ["simulate", "--force", "0.5", "--amplitude", "1.5e-7", "--duration", "0.002"]
-MAP = ["map", "--force", "0.1:0.9:3", "--amplitude", "0:3e-7:3", "--quiet"]
-
-
-def run(capsys, *args):
-    status = main([str(a) for a in args])
-    out, err = capsys.readouterr()
-    return status, out, err
 
 
 def assert_one_line_failure(status, err, *words):
