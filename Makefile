@@ -7,7 +7,7 @@ BIN    := $(VENV)/bin
 STAMP  := $(VENV)/.installed
 FIGDIR ?= figures
 
-.PHONY: paper test lint format bench clean env
+.PHONY: paper test lint format bench clean env mutate
 
 env: $(STAMP)
 
@@ -18,21 +18,31 @@ $(STAMP): pyproject.toml
 	touch $(STAMP)
 
 paper: $(STAMP)
-	$(BIN)/microslip figures --out $(FIGDIR)
+	$(BIN)/microslip figures --overwrite --out $(FIGDIR)
 
 test: $(STAMP)
 	$(BIN)/python -m pytest -q tests
 
 lint: $(STAMP)
-	$(BIN)/ruff check src tests benchmarks
-	$(BIN)/ruff format --check src tests benchmarks
+	$(BIN)/ruff check src tests benchmarks tools
+	$(BIN)/ruff format --check src tests benchmarks tools
 
 format: $(STAMP)
-	$(BIN)/ruff format src tests benchmarks
-	$(BIN)/ruff check --fix src tests benchmarks
+	$(BIN)/ruff format src tests benchmarks tools
+	$(BIN)/ruff check --fix src tests benchmarks tools
 
 bench: $(STAMP)
 	$(BIN)/python benchmarks/bench_velocity_map.py
 
+# Mutation testing of model/, integrators/ and analysis/ in a scratch copy, one mutant at a
+# time. MUTATE_ARGS: --no-jit (screen fast), --module src/microslip/..., --only FILE:LINE.
+mutate: $(STAMP)
+	$(BIN)/python tools/mutation/mutate.py $(MUTATE_ARGS)
+
+# Also the compiled-kernel cache (src/microslip/_jit_cache.py): only its jit-* key
+# directories, so a MICROSLIP_CACHE_DIR holding other files is never emptied; and numba's
+# per-file caches that older versions left next to the sources.
 clean:
 	rm -rf $(VENV) $(FIGDIR) .pytest_cache
+	rm -rf "$${MICROSLIP_CACHE_DIR:-$${XDG_CACHE_HOME:-$$HOME/.cache}/microslip}"/jit-*
+	find src -path '*/__pycache__/*' \( -name '*.nbi' -o -name '*.nbc' \) -delete

@@ -1,4 +1,4 @@
-"""REFERENCE fact 5, eq. (4.2), Figs. 4 and 6: when does the slider move at all?
+"""docs/model-facts.md, fact 5, eq. (4.2), Figs. 4 and 6: when does the slider move at all?
 
 Under a constant F >= 0 the slider moves iff F > μ min|R| = μ S c_n max(y0 − A, 0)^m2, the
 friction limit at the highest point of the normal vibration; with loss of contact
@@ -95,3 +95,23 @@ def test_never_moves_backwards(method, force, fraction):
     assert np.all(r.direction >= 0.0)
     moves = force > threshold(P, fraction * Y0)
     assert (r.x[-1] > 0.0) == moves
+
+
+def test_exactly_at_the_threshold_it_never_moves():
+    """F = μ S c_n (y0 − A)^m2 exactly: (2.2) still sticks (|F| <= μ|R|), v = 0.
+
+    Binary data make the threshold exact in any order of evaluation: m g = 16 N,
+    S c_n = 2^44 N/m², y0 = 2^-20 m, A = y0/2, μ = 1/8, threshold 0.5 N.
+    """
+    p = ms.Parameters(mass=2.0, g=8.0, area=2.0**-8, c_n=2.0**52, m2=2.0, mu=0.125)
+    amplitude = 2.0**-21
+    assert p.static_deflection == 2.0**-20
+    assert threshold(p, amplitude) == 0.5
+    assert ms.mean_velocity(p, force=0.5, amplitude=amplitude) == 0.0
+    cycle = ms.stick_slip_cycle(p, force=0.5, amplitude=amplitude)
+    assert (cycle.slip_time, cycle.slip_distance, cycle.peak_velocity) == (0.0, 0.0, 0.0)
+    assert math.isnan(cycle.release_time)
+    assert ms.velocity_map(p, forces=[0.5], amplitudes=[amplitude]).item() == 0.0
+    # One unit in the last place above it, the slider is released at the top.
+    above = ms.stick_slip_cycle(p, force=math.nextafter(0.5, 1.0), amplitude=amplitude)
+    assert above.release_time == pytest.approx(above.period, rel=1e-6)

@@ -1,4 +1,4 @@
-"""REFERENCE fact 6, Figs. 5 and 7: the steady stick–slip cycle and the mean velocity.
+"""docs/model-facts.md, fact 6, Figs. 5 and 7: the steady stick–slip cycle and the mean velocity.
 
 For F < μ m g the slider sticks once per normal period and, from its first stick on, the
 motion is exactly periodic, so between two stick starts k > j >= 1 (the 0-th one ends
@@ -106,6 +106,8 @@ def test_no_motion_below_the_threshold(fraction):
         assert ms.mean_velocity(P, force=force, amplitude=amplitude) == 0.0
         cycle = ms.stick_slip_cycle(P, force=force, amplitude=amplitude)
         assert (cycle.slip_distance, cycle.mean_velocity, cycle.slip_time) == (0.0, 0.0, 0.0)
+        assert cycle.peak_velocity == 0.0
+        assert cycle.stick_time == cycle.period == pytest.approx(ms.free_period(P, amplitude))
         assert not cycle.moves
         assert math.isnan(cycle.release_time)
 
