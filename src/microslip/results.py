@@ -9,6 +9,7 @@ import numpy as np
 
 from microslip.integrators import EVENT_NAMES
 from microslip.model.contact import reaction_array
+from microslip.model.friction import friction_force
 from microslip.model.parameters import Parameters
 
 STICK, SLIP, FLIGHT = 0, 1, 2
@@ -58,7 +59,7 @@ class SimulationResult:
 
     @property
     def Ft(self) -> np.ndarray:
-        return np.where(self.direction != 0.0, -self.direction * self.friction_limit, -self.force)
+        return friction_force(self.direction, self.friction_limit, self.force)
 
     @property
     def xddot(self) -> np.ndarray:
