@@ -130,3 +130,51 @@ def test_cf_attributes_are_added_without_replacing_the_datasets_own(tmp_path):
         assert b.attrs["history"].endswith(": microslip map --force 0.5")
         for key in ("Conventions", "source", "references"):
             assert a.attrs[key] == b.attrs[key] == cf_attributes("x")[key]
+
+
+@pytest.mark.parametrize("extra", ["precious.txt", "v/notes.txt", "sub/data.bin"])
+def test_overwrite_keeps_a_store_holding_other_files(tmp_path, extra):
+    path = tmp_path / "ours.zarr"
+    write_dataset(dataset(1.0), path)
+    write_dataset(dataset(2.0), path, overwrite=True)  # the store's own files only: replaced
+    (path / extra).parent.mkdir(exist_ok=True)
+    (path / extra).write_text("mine")
+    with pytest.raises(OutputExistsError, match="not part of its Zarr store"):
+        write_dataset(dataset(3.0), path, overwrite=True)
+    assert (path / extra).read_text() == "mine"
+    (path / extra).unlink()  # (zarr warns about a foreign file when opening)
+    if extra.startswith("sub/"):
+        (path / "sub").rmdir()
+    with xr.open_zarr(path, consolidated=False) as ds:
+        assert ds["v"].values[0] == 2.0
+
+
+def test_fake_microslip_store_with_a_user_file_is_not_replaced(tmp_path):
+    fake = tmp_path / "fake.zarr"
+    fake.mkdir()
+    (fake / "zarr.json").write_text('{"attributes": {"source": "microslip 0.0"}}')
+    (fake / "precious.txt").write_text("mine")
+    with pytest.raises(OutputExistsError):
+        write_dataset(dataset(1.0), fake, overwrite=True)
+    assert (fake / "precious.txt").read_text() == "mine"
+
+
+@pytest.mark.parametrize("name", ["", "a\\b.nc", "dir\\x/run.nc"])
+def test_empty_or_backslash_netcdf_paths_are_refused(tmp_path, name):
+    with pytest.raises(OutputError, match=r"empty|backslash"):
+        output.check_writable(str(tmp_path / name) if name else name)
+
+
+def test_batch_moves_all_outputs_or_none(tmp_path):
+    (tmp_path / "b.txt").write_text("old")
+    with pytest.raises(KeyboardInterrupt), output.OutputBatch(overwrite=True) as batch:
+        batch.temporary(tmp_path / "a.txt").write_text("new a")
+        batch.temporary(tmp_path / "b.txt").write_text("new b")
+        raise KeyboardInterrupt  # before commit: nothing moved, temporaries removed
+    assert sorted(os.listdir(tmp_path)) == ["b.txt"] and (tmp_path / "b.txt").read_text() == "old"
+    with output.OutputBatch(overwrite=True) as batch:
+        batch.temporary(tmp_path / "a.txt").write_text("new a")
+        batch.temporary(tmp_path / "b.txt").write_text("new b")
+        assert batch.commit() == [tmp_path / "a.txt", tmp_path / "b.txt"]
+    assert sorted(os.listdir(tmp_path)) == ["a.txt", "b.txt"]
+    assert (tmp_path / "b.txt").read_text() == "new b"

@@ -2,25 +2,57 @@
 
 Each command validates everything (inputs, option combinations, every output path and
 the work budget) before it computes anything, so a refused run leaves no file behind.
+Outputs are written to temporaries and moved into place together at the end (Ctrl-C
+and SIGTERM held back meanwhile), so a failed or interrupted run leaves none of them.
 """
 
 from __future__ import annotations
 
 import argparse
 import json
+import os
+import shutil
 import sys
 import time
+import uuid
 from pathlib import Path
 
 import numpy as np
 
-from microslip.cli.options import CliError, Options, gather
+from microslip.cli.interrupts import RUN, uninterruptible
+from microslip.cli.options import CliError, Options, gather, refuse_underscores
 
 ALL_FIGURES = ("fig2", "fig3", "fig4", "fig5", "fig6", "fig7")
 
 
 def _note(message: str) -> None:
     print(f"microslip: note: {message}", file=sys.stderr)
+
+
+def _output_path(opts: Options, name: str, config: object) -> Path:
+    """Option ``name`` as a path: not empty, and not the ``--config`` file it was read with."""
+    text = str(opts[name])
+    if not text.strip():
+        raise CliError(f"{opts.flag(name)}: empty path")
+    path = Path(text)
+    if config is not None and _same_file(path, Path(str(config))):
+        raise CliError(f"{opts.flag(name)} {text!r} is the --config file; choose another output")
+    return path
+
+
+def _same_file(a: Path, b: Path) -> bool:
+    try:
+        return os.path.samefile(a, b)
+    except OSError:  # one of them does not exist
+        return a.resolve() == b.resolve()
+
+
+def _commit(batch) -> list[Path]:
+    """Move every output into place with Ctrl-C held back; record them as complete."""
+    with uninterruptible():
+        written = batch.commit()
+        RUN.written = [str(path) for path in written]
+    return written
 
 
 def _check_method(opts: Options, choices: tuple[str, ...], default: str) -> str:
@@ -48,6 +80,7 @@ def _initial_state(opts: Options) -> list[float] | None:
     text = opts.get("initial_state")
     if text is None:
         return None
+    refuse_underscores(opts.flag("initial_state"), text)
     try:
         return [float(v) for v in str(text).split(",")]
     except ValueError:
@@ -59,7 +92,13 @@ def _initial_state(opts: Options) -> list[float] | None:
 def cmd_simulate(args: argparse.Namespace) -> int:
     import microslip as ms
     from microslip.budget import default_save_every
-    from microslip.io.output import DATASET_SUFFIXES, PLOT_SUFFIXES, check_writable, write_dataset
+    from microslip.io.output import (
+        DATASET_SUFFIXES,
+        PLOT_SUFFIXES,
+        OutputBatch,
+        check_writable,
+        write_dataset,
+    )
     from microslip.simulation import DEFAULT_ATOL, DEFAULT_RTOL
 
     opts = gather(args, "simulate")
@@ -77,14 +116,15 @@ def cmd_simulate(args: argparse.Namespace) -> int:
     opts.refuse_together("amplitude", "initial_state", "both set the initial state")
     overwrite = bool(opts.get("overwrite", False))
     allow_large = bool(opts.get("allow_large", False))
-    out = (
-        check_writable(opts["out"], DATASET_SUFFIXES, overwrite=overwrite)
-        if "out" in opts
-        else None
-    )
-    plot = (
-        check_writable(opts["plot"], PLOT_SUFFIXES, overwrite=overwrite) if "plot" in opts else None
-    )
+    out = plot = None
+    if "out" in opts:
+        out = _output_path(opts, "out", args.config)
+        check_writable(out, DATASET_SUFFIXES, overwrite=overwrite)
+    if "plot" in opts:
+        plot = _output_path(opts, "plot", args.config)
+        check_writable(plot, PLOT_SUFFIXES, overwrite=overwrite)
+    if out is not None and plot is not None and _same_file(out, plot):
+        raise CliError(f"{opts.flag('out')} and {opts.flag('plot')} name the same file")
     initial_state = _initial_state(opts)
     if "amplitude" not in opts and initial_state is None:
         raise CliError("give --amplitude or --initial-state")
@@ -96,6 +136,7 @@ def cmd_simulate(args: argparse.Namespace) -> int:
         samples = opts["samples"]
         if samples < 2:
             raise CliError(f"{opts.flag('samples')} must be an integer >= 2, got {samples!r}")
+        _check_samples(opts, samples, allow_large)
         if duration > 0:
             t_eval = np.linspace(0.0, float(duration), samples)
     elif "save_every" not in opts and duration > 0:
@@ -125,9 +166,12 @@ def cmd_simulate(args: argparse.Namespace) -> int:
     )
     elapsed = time.perf_counter() - started
     kinds = [k for _, k in result.events]
+    # the slider's own displacement over the run: x(0) need not be 0 (--initial-state)
+    span = float(result.t[-1])
+    mean_v = (result.x[-1] - result.x[0]) / span if span > 0 else float("nan")
     print(
-        f"simulated {result.t[-1]:.6g} s with {result.method} in {elapsed:.3f} s: "
-        f"x = {result.x[-1]:.6e} m, mean velocity x/t = {result.x[-1] / result.t[-1]:.6e} m/s, "
+        f"simulated {span:.6g} s with {result.method} in {elapsed:.3f} s: "
+        f"x = {result.x[-1]:.6e} m, mean velocity (x(T)-x(0))/T = {mean_v:.6e} m/s, "
         f"{kinds.count('slip_start')} slip starts, {kinds.count('stick_start')} sticks, "
         f"{kinds.count('contact_lost')} losses of contact, {result.t.size} samples"
     )
@@ -136,20 +180,37 @@ def cmd_simulate(args: argparse.Namespace) -> int:
             f"output thinned to 1 step in {save_every} ({result.t.size} samples); "
             "choose with --samples or --save-every"
         )
-    if out is not None:
-        write_dataset(result.to_xarray(), out, overwrite=overwrite)
-        print(f"wrote {out}")
-    if plot is not None:
-        from microslip.plotting.trajectory import write_trajectory_plot
+    with OutputBatch(overwrite=overwrite) as batch:
+        if out is not None:
+            data = result.to_xarray()
+            batch.write(out, lambda tmp: write_dataset(data, tmp, overwrite=False))
+        if plot is not None:
+            from microslip.plotting.trajectory import write_trajectory_plot
 
-        write_trajectory_plot(result, plot)
-        print(f"wrote {plot}")
+            batch.write(plot, lambda tmp: write_trajectory_plot(result, tmp))
+        for path in _commit(batch):
+            print(f"wrote {path}")
     return 0
+
+
+def _check_samples(opts: Options, samples: int, allow_large: bool) -> None:
+    """Refuse a sample count whose output cannot fit in memory, before allocating it."""
+    from microslip.budget import BYTES_PER_SAMPLE, MEMORY_FRACTION, available_memory
+
+    need = float(samples) * BYTES_PER_SAMPLE
+    limit = available_memory() * (1.0 if allow_large else MEMORY_FRACTION)
+    if need > limit:
+        more = "" if allow_large else " (--allow-large raises the limit to all of it)"
+        raise CliError(
+            f"{opts.flag('samples')} = {samples} is too large: ~{need:.3g} bytes of output, "
+            f"{limit:.3g} bytes of memory allowed{more}"
+        )
 
 
 # -- figures ----------------------------------------------------------------------------
 def cmd_figures(args: argparse.Namespace) -> int:
-    from microslip.io.output import OutputExistsError, check_writable
+    from microslip.io.output import OutputBatch, OutputError, OutputExistsError, check_writable
+    from microslip.plotting.figures import check_drawable
 
     opts = gather(args, "figures")
     only = opts.get("only")
@@ -162,8 +223,14 @@ def cmd_figures(args: argparse.Namespace) -> int:
     dpi = opts.get("dpi", 150)
     if not 10 <= dpi <= 2400:
         raise CliError(f"{opts.flag('dpi')} must be an integer in [10, 2400], got {dpi!r}")
+    check_drawable(opts.params, names)  # μ = 0 and Figs. 4–7: refused before computing
     overwrite = bool(opts.get("overwrite", False))
-    out_dir = Path(opts.get("out", "figures"))
+    out_dir = _output_path(opts, "out", args.config) if "out" in opts else Path("figures")
+    if "\\" in str(out_dir.absolute()):  # HDF5 cannot create figN.nc there
+        raise OutputError(
+            f"--out {str(out_dir)!r}: NetCDF files cannot be created under a path with a "
+            "backslash; choose another directory"
+        )
     if out_dir.exists() and not out_dir.is_dir():
         raise CliError(f"--out {str(out_dir)!r} exists and is not a directory")
     targets = [out_dir / f"{name}.{ext}" for name in names for ext in ("png", "nc")]
@@ -173,22 +240,60 @@ def cmd_figures(args: argparse.Namespace) -> int:
         raise OutputExistsError(
             f"output {str(existing[0])!r} exists{more}; pass --overwrite to replace"
         )
+    if args.config is not None and any(_same_file(t, Path(args.config)) for t in targets):
+        raise CliError(f"--out {str(out_dir)!r} would replace the --config file")
+    created = [d for d in (out_dir, *out_dir.parents) if not d.exists()][::-1]
     try:
         out_dir.mkdir(parents=True, exist_ok=True)
     except OSError as error:
+        _remove_empty(created)
         raise CliError(
             f"--out {str(out_dir)!r}: cannot create directory: {error.strerror}"
         ) from None
-    for target in targets:
-        check_writable(target, overwrite=overwrite)
+    try:
+        for target in targets:
+            check_writable(target, overwrite=overwrite)
+        _write_figures(out_dir, opts, names, dpi, OutputBatch(overwrite=overwrite))
+    except BaseException:  # also Ctrl-C: no directory of this run left behind, empty
+        _remove_empty(created)
+        raise
+    return 0
+
+
+def _write_figures(out_dir: Path, opts: Options, names, dpi: int, batch) -> list[Path]:
+    """Draw into a hidden directory inside ``out_dir``; move the files out at the end."""
     from microslip.plotting.figures import write_figures
+    from microslip.plotting.scales import FigureNotDrawable
 
     quiet = bool(opts.get("quiet", False))
     say = (lambda message: None) if quiet else (lambda message: print(message, flush=True))
     started = time.perf_counter()
-    paths = write_figures(out_dir, opts.params, names, dpi=dpi, progress=say)
-    print(f"wrote {len(paths)} files to {out_dir} in {time.perf_counter() - started:.1f} s")
-    return 0
+    work = out_dir / f".figures.{uuid.uuid4().hex[:8]}.partial"
+    try:
+        with batch:
+            try:
+                paths = write_figures(work, opts.params, names, dpi=dpi, progress=say)
+            except FigureNotDrawable as error:  # keep what its message says was written
+                for path in error.written:
+                    batch.stage(Path(path), out_dir / Path(path).name)
+                error.written = tuple(_commit(batch))
+                raise
+            for path in paths:
+                batch.stage(path, out_dir / path.name)
+            written = _commit(batch)
+    finally:
+        shutil.rmtree(work, ignore_errors=True)
+    print(f"wrote {len(written)} files to {out_dir} in {time.perf_counter() - started:.1f} s")
+    return written
+
+
+def _remove_empty(directories: list[Path]) -> None:
+    """Remove the directories this run created, deepest first, if they are still empty."""
+    for directory in reversed(directories):
+        try:
+            directory.rmdir()
+        except OSError:
+            return
 
 
 # -- map / sweep ------------------------------------------------------------------------
@@ -203,12 +308,40 @@ def _sweep_axes(opts: Options) -> dict[str, np.ndarray]:
             raise CliError(f"{opts.flag('param')}: expected NAME=RANGE, got {text!r}")
         if name in axes:
             raise CliError(f"{opts.flag('param')}: {name!r} given twice")
+        if name in ("force", "amplitude"):
+            raise CliError(f"{opts.flag('param')}: give {name} with --{name}, not --param")
+        if name in opts.param_origin:
+            raise CliError(
+                f"{opts.flag('param')} {name}=... cannot be combined with "
+                f"{opts.param_origin[name]}: both set {name}"
+            )
+        refuse_underscores(f"--param {name}", values)
         axes[name] = parse_values(f"--param {name}", values)
     return axes
 
 
+def _check_scheduler(opts: Options) -> None:
+    """A scheduler address must be HOST:PORT or tcp://HOST:PORT (refused at once, not
+    after a connection timeout)."""
+    if "scheduler" not in opts:
+        return
+    text = str(opts["scheduler"]).strip()
+    address = text.removeprefix("tcp://")
+    host, sep, port = address.rpartition(":")
+    if not sep or not host or "/" in address or not port.isdigit() or not 0 < int(port) < 65536:
+        raise CliError(
+            f"{opts.flag('scheduler')}: expected HOST:PORT or tcp://HOST:PORT, got {text!r}"
+        )
+
+
 def cmd_sweep(args: argparse.Namespace) -> int:
-    from microslip.io.output import PLOT_SUFFIXES, OutputError, check_writable, write_dataset
+    from microslip.io.output import (
+        PLOT_SUFFIXES,
+        OutputBatch,
+        OutputError,
+        check_writable,
+        write_dataset,
+    )
     from microslip.io.ranges import parse_values
     from microslip.sweeps import SweepSpec, run_sweep
     from microslip.sweeps.store import exclusive_lock, remove_store
@@ -225,14 +358,23 @@ def cmd_sweep(args: argparse.Namespace) -> int:
     for required in ("force", "amplitude", "out"):
         if required not in opts:
             raise CliError(f"--{required} is required (flag or [{args.command}] in --config)")
-    forces = parse_values(opts.flag("force"), opts["force"])
-    amplitudes = parse_values(opts.flag("amplitude"), opts["amplitude"])
+    _check_scheduler(opts)
+    forces = parse_values(opts.flag("force"), refuse_underscores(opts.flag("force"), opts["force"]))
+    amplitudes = parse_values(
+        opts.flag("amplitude"), refuse_underscores(opts.flag("amplitude"), opts["amplitude"])
+    )
     axes = _sweep_axes(opts)
     overwrite = bool(opts.get("overwrite", False))
-    out = check_writable(opts["out"], (".nc", ".zarr"), overwrite=overwrite)
-    plot = (
-        check_writable(opts["plot"], PLOT_SUFFIXES, overwrite=overwrite) if "plot" in opts else None
+    out = check_writable(
+        _output_path(opts, "out", args.config), (".nc", ".zarr"), overwrite=overwrite
     )
+    plot = None
+    if "plot" in opts:
+        plot = check_writable(
+            _output_path(opts, "plot", args.config), PLOT_SUFFIXES, overwrite=overwrite
+        )
+        if _same_file(out, plot):
+            raise CliError(f"{opts.flag('out')} and {opts.flag('plot')} name the same file")
     if plot is not None:  # refuse a plot that cannot be drawn before computing anything
         from microslip.plotting.velocity_map import sweep_plot_kind
 
@@ -257,7 +399,7 @@ def cmd_sweep(args: argparse.Namespace) -> int:
     quiet = bool(opts.get("quiet", False))
     started = time.perf_counter()
     # One run per output at a time: a second one stops here at once (StoreBusyError).
-    with exclusive_lock(out):
+    with exclusive_lock(out), OutputBatch(overwrite=overwrite) as batch:
         try:
             ds = run_sweep(
                 spec,
@@ -266,14 +408,29 @@ def cmd_sweep(args: argparse.Namespace) -> int:
                 workers=workers,
                 progress=not quiet and sys.stderr.isatty(),
             )
-            write_dataset(ds, out, overwrite=overwrite)
+            batch.write(out, lambda tmp: write_dataset(ds, tmp, overwrite=False))
+            if plot is not None:
+                from microslip.plotting.velocity_map import write_velocity_map_plot
+
+                batch.write(plot, lambda tmp: write_velocity_map_plot(ds, tmp, params))
+            _commit(batch)
+        except (ConnectionError, TimeoutError) as error:  # the scheduler, not the disk
+            raise CliError(
+                f"{opts.flag('scheduler') if 'scheduler' in opts else 'Dask'}: {error}"
+                + (f"; finished chunks are kept in {work_store}" if work_store.exists() else "")
+            ) from None
         except OSError as error:  # a full disk or a vanished directory while computing
             raise OutputError(
                 f"cannot write {str(work_store)!r}: {error.strerror or error}; "
                 "finished chunks are kept there for a rerun"
             ) from None
-        except KeyboardInterrupt:
-            raise KeyboardInterrupt(
+        except KeyboardInterrupt as interrupt:  # Ctrl-C or SIGTERM (keeps its kind)
+            if RUN.written:  # the outputs are complete: the chunks are not needed
+                remove_store(work_store)
+                raise
+            if not work_store.exists():
+                raise
+            raise type(interrupt)(
                 f"finished chunks are kept in {work_store}; run the same command again to resume"
             ) from None
         remove_store(work_store)
@@ -289,10 +446,6 @@ def cmd_sweep(args: argparse.Namespace) -> int:
             _note(
                 f"{int(np.isinf(v).sum())} points have F > mu m g (no steady state): stored as inf"
             )
-    if plot is not None:
-        from microslip.plotting.velocity_map import write_velocity_map_plot
-
-        write_velocity_map_plot(ds, plot, params)
-        if not quiet:
+        if plot is not None:
             print(f"wrote {plot}")
     return 0

@@ -6,26 +6,39 @@ and an existing output is replaced only with ``--overwrite``.
 
 Exit status: 0 success; 2 any failure (bad input, refused output, full disk, a busy
 output, an unexpected internal error), always as one line on standard error, never a
-traceback (set ``MICROSLIP_DEBUG=1`` to see it); 130 interrupted (Ctrl-C), one line,
-no partial output file.
+traceback (set ``MICROSLIP_DEBUG=1`` to see it); 130 interrupted (Ctrl-C) and 143
+terminated (SIGTERM), one line, no output of the interrupted run (a map's finished
+chunks are kept for a rerun, and the line says so); an interrupt after every output was
+written says so.
 """
 
 from __future__ import annotations
 
 import argparse
+import contextlib
 import os
+import signal
 import sys
 import warnings
-from pathlib import Path
 
 from microslip.cli.commands import ALL_FIGURES, cmd_figures, cmd_info, cmd_simulate, cmd_sweep
-from microslip.cli.options import CliError, finite
+from microslip.cli.interrupts import RUN, Terminated, handling_signals
+from microslip.cli.options import CliError, finite, integer, path_text, real
 from microslip.metadata import running
 
-__all__ = ["EXIT_INTERRUPTED", "EXIT_USAGE", "CliError", "build_parser", "entry_point", "main"]
+__all__ = [
+    "EXIT_INTERRUPTED",
+    "EXIT_TERMINATED",
+    "EXIT_USAGE",
+    "CliError",
+    "build_parser",
+    "entry_point",
+    "main",
+]
 
 EXIT_USAGE = 2
 EXIT_INTERRUPTED = 130
+EXIT_TERMINATED = 143
 
 _PARAM_HELP = {
     "mass": "slider mass m [kg]",
@@ -89,9 +102,9 @@ def _add_model_options(parser: argparse.ArgumentParser) -> None:
     group = parser.add_argument_group("model parameters (SI; default: the paper's data)")
     for name, text in _PARAM_HELP.items():
         flag = f"--{name.replace('_', '-')}"
-        # float, not finite(): Parameters names the field, its unit and the rule broken
-        group.add_argument(flag, dest=name, type=float, help=text)
-    parser.add_argument("--config", type=Path, help="TOML file with [parameters] and options")
+        # real, not finite(): Parameters names the field, its unit and the rule broken
+        group.add_argument(flag, dest=name, type=real, help=text)
+    parser.add_argument("--config", type=path_text, help="TOML file with [parameters] and options")
 
 
 def _add_output_options(parser: argparse.ArgumentParser, large: bool = True) -> None:
@@ -129,11 +142,11 @@ def _add_simulate(sub) -> None:
     sim.add_argument("--dt", type=finite, help="rk4 only: step [s] (default T0/200)")
     sim.add_argument("--rtol", type=finite, help="event only: relative tolerance")
     sim.add_argument("--atol", type=finite, help="event only: absolute tolerance (natural units)")
-    sim.add_argument("--samples", type=int, help="output N evenly spaced samples")
+    sim.add_argument("--samples", type=integer, help="output N evenly spaced samples")
     sim.add_argument(
         "--save-every",
         dest="save_every",
-        type=int,
+        type=integer,
         help="keep every n-th step (default: all, thinned to the default output size)",
     )
     sim.add_argument("--out", help="write the trajectory (.nc or .csv)")
@@ -161,8 +174,8 @@ def _add_sweeps(sub) -> None:
         p.add_argument("--duration", type=finite, help="time method: span [s]")
         p.add_argument("--dt", type=finite, help="time method: RK4 step [s]")
         p.add_argument("--scheduler", help="Dask scheduler address tcp://HOST:PORT")
-        p.add_argument("--workers", type=int, help="start a local Dask cluster of N workers")
-        p.add_argument("--chunk", type=int, help="amplitudes per chunk")
+        p.add_argument("--workers", type=integer, help="start a local Dask cluster of N workers")
+        p.add_argument("--chunk", type=integer, help="amplitudes per chunk")
         _flag(p, "--quiet", help="no progress bar or summary")
         _add_output_options(p)
         _add_model_options(p)
@@ -193,7 +206,7 @@ def build_parser() -> argparse.ArgumentParser:
     figs = sub.add_parser("figures", help="reproduce the paper's Figs. 2-7")
     figs.add_argument("--out", help="output directory (default: figures)")
     figs.add_argument("--only", help=f"comma-separated subset of {','.join(ALL_FIGURES)}")
-    figs.add_argument("--dpi", type=int, help="PNG resolution (default 150)")
+    figs.add_argument("--dpi", type=integer, help="PNG resolution (default 150)")
     _flag(figs, "--quiet", help="no progress messages")
     _add_output_options(figs, large=False)
     _add_model_options(figs)
@@ -205,8 +218,24 @@ def build_parser() -> argparse.ArgumentParser:
 
 # -- running ----------------------------------------------------------------------------
 def _fail(command: str, message: str, status: int = EXIT_USAGE) -> int:
-    print(f"microslip {command}: {_one_line(message)}", file=sys.stderr)
+    try:
+        print(f"microslip {command}: {_one_line(message)}", file=sys.stderr, flush=True)
+    except (OSError, ValueError):  # stderr closed or on a full device: the status still says
+        pass
     return status
+
+
+def _interrupted(command: str, interrupt: KeyboardInterrupt) -> int:
+    """One line for Ctrl-C (130) or SIGTERM (143), saying what was kept."""
+    what = "terminated (SIGTERM)" if isinstance(interrupt, Terminated) else "interrupted"
+    status = EXIT_TERMINATED if isinstance(interrupt, Terminated) else EXIT_INTERRUPTED
+    if RUN.written:
+        detail = f" after writing {', '.join(RUN.written)} (complete)"
+    elif str(interrupt):
+        detail = f"; no output written; {interrupt}"
+    else:
+        detail = "; no output written"
+    return _fail(command, f"{what}{detail}", status)
 
 
 def _warning_line(command: str):
@@ -223,9 +252,22 @@ def main(argv: list[str] | None = None) -> int:
     command = "?"
     try:
         argv = sys.argv[1:] if argv is None else list(argv)
-        args = build_parser().parse_args(_join_negative_numbers(argv))
-        command = args.command
-        with running(["microslip", *argv]), warnings.catch_warnings():
+        RUN.command, RUN.written = "?", []
+        # `microslip -- info`: "--" ends the options; the command still follows it
+        words = argv[1:] if argv[:1] == ["--"] else argv
+        args, extra = build_parser().parse_known_args(_join_negative_numbers(words))
+        command = RUN.command = args.command
+        if extra:  # reported by the command's parser, which knows its own flags
+            return _fail(
+                command,
+                f"error: unrecognized arguments: {' '.join(extra)} "
+                f"(see microslip {command} --help)",
+            )
+        with (
+            handling_signals(),
+            running(["microslip", *argv]),
+            warnings.catch_warnings(),
+        ):
             # `running`: the `history` of the files written. Warnings (a damaged chunk
             # recomputed, F > mu m g, ...) are one line each, like errors.
             warnings.showwarning = _warning_line(command)
@@ -236,9 +278,8 @@ def main(argv: list[str] | None = None) -> int:
         devnull = os.open(os.devnull, os.O_WRONLY)
         os.dup2(devnull, sys.stdout.fileno())  # no second error while flushing at exit
         return 0
-    except KeyboardInterrupt as interrupt:
-        detail = f"; {interrupt}" if str(interrupt) else "; no output written"
-        return _fail(command, f"interrupted{detail}", EXIT_INTERRUPTED)
+    except KeyboardInterrupt as interrupt:  # also SIGTERM (Terminated)
+        return _interrupted(command, interrupt)
     except (ValueError, ConnectionError, TimeoutError) as error:
         if debug:
             raise
@@ -262,8 +303,20 @@ def main(argv: list[str] | None = None) -> int:
         )
 
 
+def _late_signal(signum: int, frame) -> None:
+    """Ctrl-C/SIGTERM after the command returned (while Python shuts down)."""
+    interrupt = Terminated() if signum == signal.SIGTERM else KeyboardInterrupt()
+    with contextlib.suppress(OSError, ValueError):
+        sys.stdout.flush()
+    os._exit(_interrupted(RUN.command, interrupt))
+
+
 def entry_point() -> None:
-    sys.exit(main())
+    status = main()
+    if status == 0:
+        for sig in (signal.SIGINT, signal.SIGTERM):
+            signal.signal(sig, _late_signal)
+    sys.exit(status)
 
 
 if __name__ == "__main__":

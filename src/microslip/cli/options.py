@@ -45,6 +45,7 @@ class Options:
     params: Any
     values: dict[str, Any] = field(default_factory=dict)
     origin: dict[str, str] = field(default_factory=dict)
+    param_origin: dict[str, str] = field(default_factory=dict)  # Parameters field -> source
 
     def __contains__(self, name: str) -> bool:
         return name in self.values
@@ -80,12 +81,14 @@ def _typed(kind: str, key: str, value: Any, where: str) -> Any:
     if kind == "float":
         if not is_number:
             raise fail("a number")
-        if not math.isfinite(value):
+        if not _fits_float(value):
             raise fail("a finite number")
         return float(value)
     if kind == "int":
         if isinstance(value, bool) or not isinstance(value, int):
             raise fail("an integer")
+        if abs(value) > INT_LIMIT:
+            raise fail(f"an integer of at most {INT_LIMIT}")
         return value
     if kind == "str":
         if not isinstance(value, str):
@@ -98,12 +101,13 @@ def _typed(kind: str, key: str, value: Any, where: str) -> Any:
     if kind == "values":
         if isinstance(value, str):
             return value
-        if is_number:
+        if is_number and _fits_float(value):
             return repr(float(value))
         if (
             isinstance(value, list)
             and value
             and all(isinstance(v, (int, float)) and not isinstance(v, bool) for v in value)
+            and all(_fits_float(v) for v in value)
         ):
             return ",".join(repr(float(v)) for v in value)
         raise fail('a range string "start:stop:count", a number or a list of numbers')
@@ -119,14 +123,19 @@ def _typed(kind: str, key: str, value: Any, where: str) -> Any:
             isinstance(value, list)
             and len(value) == 4
             and all(isinstance(v, (int, float)) and not isinstance(v, bool) for v in value)
+            and all(_fits_float(v) for v in value)
         ):
             return ",".join(repr(float(v)) for v in value)
-        raise fail("four numbers y,ydot,x,xdot (a list or a string)")
+        raise fail("four finite numbers y,ydot,x,xdot (a list or a string)")
     raise AssertionError(kind)  # pragma: no cover - the schemas above use known kinds
 
 
 def gather(args: argparse.Namespace, command: str) -> Options:
-    """(Parameters, options) from the ``--config`` file, then the flags (flags win)."""
+    """(Parameters, options) from the ``--config`` file, then the flags (flags win).
+
+    A list option (``param``) given both in the file and as flags is refused: the
+    flags would silently drop the file's entries.
+    """
     from microslip.io.config import command_options, load_config, parameters_from_config
     from microslip.model.parameters import Parameters
 
@@ -136,25 +145,65 @@ def gather(args: argparse.Namespace, command: str) -> Options:
     if args.config is not None:
         data = load_config(args.config)
         source = str(args.config)
-        param_values.update(parameters_from_config(data, source))
+        for key, value in parameters_from_config(data, source).items():
+            param_values[key] = value
+            opts.param_origin[key] = f"{key} in [parameters] of {source}"
         where = f"{source} [{command}]"
-        for key, value in command_options(data, command, set(schema), source).items():
+        known = {name: set(table) for name, table in SCHEMAS.items()}
+        for key, value in command_options(data, command, known, source).items():
             opts.values[key] = _typed(schema[key], key, value, where)
             opts.origin[key] = f"{key} in [{command}] of {source}"
     for name in Parameters.field_names():
         if getattr(args, name) is not None:
             param_values[name] = getattr(args, name)
+            opts.param_origin[name] = "--" + name.replace("_", "-")
     for name in schema:
         value = getattr(args, name, None)
-        if value is not None:
-            opts.values[name] = value
-            opts.origin[name] = "--" + name.replace("_", "-")
+        if value is None:
+            continue
+        if name == "param" and name in opts.origin:
+            raise CliError(
+                f"--param cannot be combined with {opts.origin[name]}: give every "
+                "NAME=RANGE in one place"
+            )
+        opts.values[name] = value
+        opts.origin[name] = "--" + name.replace("_", "-")
     opts.params = Parameters(**param_values)
     return opts
 
 
+INT_LIMIT = 2**62  # larger counts cannot be allocated or indexed (numpy int64)
+
+
+def _fits_float(value: int | float) -> bool:
+    try:
+        return math.isfinite(float(value))
+    except OverflowError:  # a TOML integer beyond 1.8e308
+        return False
+
+
+def refuse_underscores(name: str, text: str) -> str:
+    """``CliError`` for ``1_0``: Python reads it as 10, a user more likely mistyped."""
+    if "_" in str(text):
+        raise CliError(f"{name}: '_' is not allowed in a number, got {text!r}")
+    return str(text)
+
+
+def real(text: str) -> float:
+    """argparse type: a float (inf and nan too, for Parameters to name the field and the
+    rule broken), but not ``1_0``."""
+    if "_" in text:
+        raise argparse.ArgumentTypeError(f"'_' is not allowed in a number, got {text!r}")
+    try:
+        return float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"not a number: {text!r}") from None
+
+
 def finite(text: str) -> float:
     """argparse type: a finite float, else a one-line error (argparse names the flag)."""
+    if "_" in text:
+        raise argparse.ArgumentTypeError(f"'_' is not allowed in a number, got {text!r}")
     try:
         value = float(text)
     except ValueError:
@@ -162,3 +211,23 @@ def finite(text: str) -> float:
     if not np.isfinite(value):
         raise argparse.ArgumentTypeError(f"must be finite, got {text!r}")
     return value
+
+
+def integer(text: str) -> int:
+    """argparse type: a decimal integer of at most :data:`INT_LIMIT` in size."""
+    if "_" in text:
+        raise argparse.ArgumentTypeError(f"'_' is not allowed in a number, got {text!r}")
+    try:
+        value = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"not an integer: {text!r}") from None
+    if abs(value) > INT_LIMIT:
+        raise argparse.ArgumentTypeError(f"must be at most {INT_LIMIT}, got {text!r}")
+    return value
+
+
+def path_text(text: str) -> str:
+    """argparse type: a non-empty path (``Path('')`` would mean the current directory)."""
+    if not text.strip():
+        raise argparse.ArgumentTypeError("empty path")
+    return text

@@ -33,6 +33,12 @@ def load_config(path: str | Path) -> dict[str, Any]:
             data = tomllib.load(handle)
     except FileNotFoundError:
         raise ValueError(f"config file {str(path)!r} does not exist") from None
+    except UnicodeDecodeError as error:  # TOML is UTF-8; say where, not only the byte
+        raise ValueError(
+            f"config file {str(path)!r} is not UTF-8 text (byte {error.start}); save it as UTF-8"
+        ) from None
+    except IsADirectoryError:
+        raise ValueError(f"config file {str(path)!r} is a directory") from None
     except (OSError, tomllib.TOMLDecodeError) as error:
         raise ValueError(f"config file {str(path)!r} is unreadable: {error}") from None
     return data
@@ -51,28 +57,53 @@ def parameters_from_config(data: dict[str, Any], source: str) -> dict[str, float
                 f"{source}: unknown parameter {key!r} in [parameters]; known: {', '.join(known)}"
             )
         # TOML booleans are not numbers here, though Python's bool is an int
-        if isinstance(value, bool) or not isinstance(value, (int, float)):
+        try:
+            number = None if isinstance(value, bool) else float(value)
+        except (TypeError, ValueError, OverflowError):  # OverflowError: an int beyond 1e308
+            number = None
+        if number is None or not isinstance(value, (int, float)):
             unit = Parameters.field_unit(key)
             raise ValueError(
                 f"{source}: {key} in [parameters] must be a number [{unit}], got {value!r}"
             )
-        values[key] = float(value)
+        values[key] = number
     return values
 
 
-def command_options(data: dict[str, Any], command: str, allowed: set[str], source: str) -> dict:
-    """The ``[command]`` table, checked against the command's option names."""
-    table = data.get(command, {})
-    if not isinstance(table, dict):
-        raise ValueError(f"{source}: [{command}] must be a table")
-    for key in table:
-        if key.replace("-", "_") not in allowed:
+def command_options(
+    data: dict[str, Any], command: str, schemas: dict[str, set[str]], source: str
+) -> dict[str, Any]:
+    """The ``[command]`` table, checked against the command's option names.
+
+    ``schemas`` maps every command to its option names: a file shared between commands
+    may hold the other commands' tables, but each is checked too (a misspelled key is
+    refused, whichever command reads the file), and so is every top-level name (a
+    misspelled ``[paramters]`` would otherwise be ignored without a word).
+    """
+    known_tables = {"parameters", *schemas}
+    for name, table in data.items():
+        if name not in known_tables:
             raise ValueError(
-                f"{source}: unknown option {key!r} in [{command}]; "
-                f"known: {', '.join(sorted(allowed))}"
+                f"{source}: unknown table [{name}]; known: {', '.join(sorted(known_tables))}"
             )
-    unknown_tables = set(data) - {"parameters", command}
-    for name in unknown_tables:
-        if not isinstance(data[name], dict):
-            raise ValueError(f"{source}: unexpected top-level key {name!r}")
-    return {key.replace("-", "_"): value for key, value in table.items()}
+        if not isinstance(table, dict):
+            raise ValueError(f"{source}: [{name}] must be a table")
+    options: dict[str, Any] = {}
+    for name, allowed in schemas.items():
+        spelled: dict[str, str] = {}
+        for key, value in data.get(name, {}).items():
+            option = key.replace("-", "_")
+            if option not in allowed:
+                raise ValueError(
+                    f"{source}: unknown option {key!r} in [{name}]; "
+                    f"known: {', '.join(sorted(allowed))}"
+                )
+            if option in spelled:  # `initial-state` and `initial_state`: which one?
+                raise ValueError(
+                    f"{source}: {spelled[option]!r} and {key!r} in [{name}] are the same "
+                    "option; keep one"
+                )
+            spelled[option] = key
+            if name == command:
+                options[option] = value
+    return options

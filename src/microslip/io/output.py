@@ -28,9 +28,11 @@ PLOT_SUFFIXES = (".png", ".pdf", ".svg")
 __all__ = [
     "DATASET_SUFFIXES",
     "PLOT_SUFFIXES",
+    "OutputBatch",
     "OutputError",
     "OutputExistsError",
     "atomic_path",
+    "check_output_name",
     "check_writable",
     "is_microslip_output",
     "write_atomically",
@@ -73,6 +75,60 @@ def is_microslip_output(path: str | Path) -> bool:
     return False
 
 
+# The files a Zarr store writes itself (v3 and v2 metadata); a chunk lives in an array's
+# directory (v3: under ``c/``; v2: a name of digits and separators).
+_ZARR_METADATA = {"zarr.json", ".zattrs", ".zgroup", ".zarray", ".zmetadata"}
+
+
+def _is_chunk_name(name: str) -> bool:
+    return bool(name) and all(part.isdigit() for part in name.split("."))
+
+
+def _is_array(node: Path) -> bool:
+    if (node / ".zarray").is_file():
+        return True
+    try:
+        return json.loads((node / "zarr.json").read_text()).get("node_type") == "array"
+    except (OSError, ValueError, AttributeError):
+        return False
+
+
+def _holds_only_chunks(directory: Path) -> bool:
+    for entry in os.scandir(directory):
+        if entry.is_symlink() or not _is_chunk_name(entry.name):
+            return False
+        if entry.is_dir() and not _holds_only_chunks(Path(entry.path)):
+            return False
+    return True
+
+
+def _holds_only_store_files(node: Path) -> bool:
+    """True if every entry under the group or array ``node`` is Zarr metadata or a chunk.
+
+    ``--overwrite`` deletes the old store: a file the user put there (notes, other
+    results) must not go with it.
+    """
+    array = _is_array(node)
+    for entry in os.scandir(node):
+        path = Path(entry.path)
+        if entry.is_symlink():
+            return False
+        if entry.is_file():
+            if entry.name in _ZARR_METADATA or (array and _is_chunk_name(entry.name)):
+                continue
+            return False
+        if not entry.is_dir():
+            return False
+        if array and (entry.name == "c" or _is_chunk_name(entry.name)):
+            if not _holds_only_chunks(path):  # v3 <array>/c/i/j, v2 <array>/i/j
+                return False
+        elif not any((path / meta).is_file() for meta in _ZARR_METADATA):
+            return False
+        elif not _holds_only_store_files(path):
+            return False
+    return True
+
+
 def _refuse_existing(path: Path, overwrite: bool) -> None:
     if not os.path.lexists(path):
         return
@@ -85,6 +141,28 @@ def _refuse_existing(path: Path, overwrite: bool) -> None:
             f"output {str(path)!r} is a directory that microslip did not write; "
             "refusing to replace it (even with --overwrite); remove it yourself or choose another"
         )
+    if path.is_dir() and not _holds_only_store_files(path):
+        raise OutputExistsError(
+            f"output {str(path)!r} holds files that are not part of its Zarr store; "
+            "refusing to replace it (even with --overwrite); move them out or choose another"
+        )
+
+
+def check_output_name(path: str | Path) -> Path:
+    """``OutputError`` for an empty path, or a NetCDF path netCDF4/HDF5 cannot create.
+
+    HDF5 refuses a backslash anywhere in the path of a file it creates (it fails with
+    "Permission denied" only when writing, after the computation).
+    """
+    if not str(path).strip():
+        raise OutputError("output path is empty")
+    path = Path(path)
+    if path.suffix.lower() == ".nc" and "\\" in str(path.absolute()):
+        raise OutputError(
+            f"output {str(path)!r}: NetCDF files cannot be created under a path with a "
+            "backslash; choose another name"
+        )
+    return path
 
 
 def check_writable(
@@ -96,7 +174,7 @@ def check_writable(
     ``overwrite``) that ``path`` does not exist yet. A directory at ``path`` is replaceable
     only if it is a microslip Zarr output and ``overwrite`` is true.
     """
-    path = Path(path)
+    path = check_output_name(path)
     if suffixes is not None and path.suffix.lower() not in suffixes:
         raise OutputError(f"output {str(path)!r}: suffix must be one of {', '.join(suffixes)}")
     parent = path.parent if str(path.parent) else Path(".")
@@ -243,3 +321,75 @@ def write_dataset(ds, path: str | Path, *, overwrite: bool = True) -> Path:
         frame.to_csv(tmp)
 
     return write_atomically(path, write_csv, overwrite=overwrite)
+
+
+def _remove(path: Path) -> None:
+    if path.is_dir() and not path.is_symlink():
+        shutil.rmtree(path, ignore_errors=True)
+    elif os.path.lexists(path):
+        with contextlib.suppress(OSError):
+            path.unlink()
+
+
+class OutputBatch:
+    """The outputs of one run: written to temporaries, moved into place together.
+
+    :meth:`temporary` gives a hidden name beside a target (same suffix, so writers that
+    pick the format from it still work); :meth:`commit` moves every finished temporary
+    to its target (:attr:`written` lists them). Leaving the ``with`` block by an
+    exception (also ``KeyboardInterrupt``) removes every temporary not yet moved, so an
+    interrupted run leaves none of its outputs, and the old files stay as they were.
+    """
+
+    def __init__(self, *, overwrite: bool = False) -> None:
+        self.overwrite = overwrite
+        self.written: list[Path] = []
+        self._staged: list[tuple[Path, Path]] = []
+
+    def temporary(self, target: str | Path) -> Path:
+        """A fresh temporary path for ``target`` (moved there by :meth:`commit`)."""
+        target = Path(target)
+        tmp = target.with_name(f".{target.stem}.{uuid.uuid4().hex[:8]}.partial{target.suffix}")
+        return self.stage(tmp, target)
+
+    def write(self, target: str | Path, writer: Callable[[Path], object]) -> Path:
+        """Call ``writer(tmp)`` for a fresh temporary of ``target``; errors name ``target``."""
+        tmp = self.temporary(target)
+        try:
+            writer(tmp)
+        except OutputError as error:  # written to tmp, but the user knows only the target
+            raise type(error)(str(error).replace(str(tmp), str(target))) from None
+        except OSError as error:
+            reason = error.strerror or str(error) or type(error).__name__
+            raise OutputError(f"cannot write {str(target)!r}: {reason}") from None
+        return Path(target)
+
+    def stage(self, tmp: str | Path, target: str | Path) -> Path:
+        """Register a finished (or to be finished) ``tmp`` to move to ``target``."""
+        self._staged.append((Path(tmp), Path(target)))
+        return Path(tmp)
+
+    def commit(self) -> list[Path]:
+        """Move every temporary to its target; returns the targets written."""
+        while self._staged:
+            tmp, target = self._staged[0]
+            try:
+                _install(tmp, target, self.overwrite)
+            except OSError as error:
+                reason = error.strerror or str(error) or type(error).__name__
+                raise OutputError(f"cannot write {str(target)!r}: {reason}") from None
+            self._staged.pop(0)
+            self.written.append(target)
+        return list(self.written)
+
+    def discard(self) -> None:
+        """Remove every temporary not moved yet."""
+        for tmp, _ in self._staged:
+            _remove(tmp)
+        self._staged.clear()
+
+    def __enter__(self) -> OutputBatch:
+        return self
+
+    def __exit__(self, *exc_info) -> None:
+        self.discard()

@@ -16,7 +16,33 @@ from microslip.plotting.scales import (
     require_friction,
 )
 
-__all__ = ["FIG7_AMPLITUDES", "FIG7_FORCES", "fig7_grid", "write_figure7", "write_figures"]
+__all__ = [
+    "FIG7_AMPLITUDES",
+    "FIG7_FORCES",
+    "check_drawable",
+    "fig7_grid",
+    "write_figure7",
+    "write_figures",
+]
+
+# Figures of stick-slip under dry friction, driven by a fraction of mu m g (Sec. 4)
+_NEED_FRICTION = ("fig4", "fig5", "fig6", "fig7")
+
+
+def check_drawable(params: Parameters, names: Sequence[str]) -> None:
+    """Raise :class:`FigureNotDrawable` naming every figure of ``names`` that has no
+    meaning for ``params``, before anything is computed (so a refused request costs
+    nothing and writes nothing)."""
+    refused: list[FigureNotDrawable] = []
+    for name in names:
+        if name in _NEED_FRICTION:
+            try:
+                require_friction(params, name)
+            except FigureNotDrawable as error:
+                refused.append(error)
+    if refused:
+        raise combine_refusals(refused, [])
+
 
 # Fig. 7 grid for the paper's data: F below μ m g = 0.981 N, A up to past loss of contact
 # (y0 = 0.225 µm). Other data: F times μ m g and A times y0 relative to the paper's.

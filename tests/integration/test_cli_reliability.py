@@ -1,0 +1,189 @@
+"""The command line under interrupts and odd inputs (QA of issue 8): Ctrl-C and SIGTERM
+leave no output of the run, every refusal is one line before any computation, and no
+setting is silently dropped."""
+
+import os
+import re
+import signal
+
+import pytest
+from cli_inprocess import MAP, SIM, run
+
+from microslip.cli import commands
+from microslip.cli.interrupts import handling_signals, uninterruptible
+
+
+def one_line(status, err, code, *words):
+    assert status == code, err
+    assert len(err.strip().splitlines()) == 1, err
+    assert "Traceback" not in err
+    for word in words:
+        assert word in err, (word, err)
+
+
+def _interrupt(kind):
+    if kind == "sigterm":  # the real signal, through the CLI's handler
+        os.kill(os.getpid(), signal.SIGTERM)
+    raise KeyboardInterrupt
+
+
+@pytest.mark.parametrize(("kind", "code"), [("sigint", 130), ("sigterm", 143)])
+def test_interrupted_figures_leave_no_figure_and_no_directory(
+    tmp_path, monkeypatch, capsys, kind, code
+):
+    def fake(out_dir, params, names, *, dpi, progress):  # fig2 written, then Ctrl-C
+        out_dir.mkdir(parents=True)
+        (out_dir / "fig2.png").write_bytes(b"png")
+        (out_dir / "fig2.nc").write_bytes(b"nc")
+        _interrupt(kind)
+
+    monkeypatch.setattr("microslip.plotting.figures.write_figures", fake)
+    new = tmp_path / "new" / "figs"
+    status, _, err = run(capsys, "figures", "--out", new, "--quiet")
+    one_line(status, err, code, "no output written")
+    assert not (tmp_path / "new").exists()  # the directories it created are gone too
+    old = tmp_path / "old"
+    old.mkdir()
+    (old / "notes.txt").write_text("mine")
+    status, _, err = run(capsys, "figures", "--out", old, "--quiet", "--only", "fig2")
+    one_line(status, err, code)
+    assert sorted(os.listdir(old)) == ["notes.txt"]
+
+
+def test_ctrl_c_while_plotting_removes_the_finished_dataset(tmp_path, monkeypatch, capsys):
+    def fake_plot(result, path, dpi=150):
+        path.write_bytes(b"half a png")
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr("microslip.plotting.trajectory.write_trajectory_plot", fake_plot)
+    status, _, err = run(capsys, *SIM, "--out", tmp_path / "t.nc", "--plot", tmp_path / "t.png")
+    one_line(status, err, 130, "interrupted", "no output written")
+    assert os.listdir(tmp_path) == []
+
+
+def test_interrupt_after_the_outputs_are_complete_says_so(tmp_path, monkeypatch, capsys):
+    commit = commands._commit
+
+    def commit_then_interrupt(batch):
+        written = commit(batch)
+        os.kill(os.getpid(), signal.SIGINT)  # e.g. while printing the summary
+        return written
+
+    monkeypatch.setattr(commands, "_commit", commit_then_interrupt)
+    status, _, err = run(capsys, *SIM, "--out", tmp_path / "t.csv")
+    one_line(status, err, 130, "interrupted after writing", "t.csv", "complete")
+    assert (tmp_path / "t.csv").read_text().startswith("time [s]")
+    assert sorted(os.listdir(tmp_path)) == ["t.csv"]
+
+
+def test_a_signal_while_moving_outputs_into_place_waits_for_the_end():
+    done = []
+    with pytest.raises(KeyboardInterrupt), handling_signals():
+        with uninterruptible():
+            os.kill(os.getpid(), signal.SIGINT)
+            done.append("moved")  # not cut short by the signal
+    assert done == ["moved"]
+
+
+@pytest.mark.parametrize(
+    "args",
+    [
+        [*SIM, "--out", "a\\b.nc"],
+        [*MAP, "--out", "a\\b.nc"],
+        ["figures", "--only", "fig2", "--out", "x\\y"],
+    ],
+)
+def test_backslash_in_a_netcdf_path_is_refused_before_computing(
+    tmp_path, monkeypatch, capsys, args
+):
+    monkeypatch.chdir(tmp_path)
+    status, _, err = run(capsys, *args)
+    one_line(status, err, 2, "backslash")
+    assert os.listdir(tmp_path) == []
+
+
+def test_figures_that_cannot_be_drawn_are_refused_before_any_file(tmp_path, capsys):
+    status, _, err = run(capsys, "figures", "--mu", "0", "--out", tmp_path / "f")
+    one_line(status, err, 2, "fig4, fig5, fig6, fig7 cannot be drawn", "mu = 0")
+    assert not (tmp_path / "f").exists()
+
+
+@pytest.mark.parametrize(
+    ("args", "words"),
+    [
+        (["sweep", "--param", "mu=0.1,0.2", "--mu", "0.2"], ["--param mu", "--mu"]),
+        (["sweep", "--param", "force=0.1"], ["--force"]),
+        (["map", "--force", "1_0"], ["'_'"]),
+        (["map", "--amplitude", "1_0e-7"], ["'_'"]),
+        (["simulate", "--force", "1_0"], ["--force", "'_'"]),
+        (["simulate", "--samples", "1_000"], ["--samples", "'_'"]),
+        (["map", "--scheduler", "garbage"], ["--scheduler", "HOST:PORT"]),
+        (["map", "--scheduler", "tcp://localhost"], ["--scheduler", "HOST:PORT"]),
+        (["figures", "--out", ""], ["empty path"]),
+        (["info", "--config", ""], ["--config", "empty path"]),
+        (["info", "--bogus"], ["microslip info: error: unrecognized arguments: --bogus"]),
+    ],
+)
+def test_ambiguous_or_meaningless_settings_are_refused(tmp_path, monkeypatch, capsys, args, words):
+    monkeypatch.chdir(tmp_path)
+    defaults = {"--force": "0.5", "--amplitude": "1e-7", "--out": "m.nc"}
+    if args[0] in ("map", "sweep"):  # complete the command, so only the setting is wrong
+        args = args + [v for k, d in defaults.items() if k not in args for v in (k, d)]
+    status, _, err = run(capsys, *args)
+    one_line(status, err, 2, *words)
+    assert os.listdir(tmp_path) == []
+
+
+def test_param_in_both_config_and_flags_is_refused(tmp_path, capsys):
+    config = tmp_path / "c.toml"
+    config.write_text('[sweep]\nparam = "mu=0.1"\n')
+    status, _, err = run(
+        capsys, "sweep", "--config", config, "--param", "m2=1.5,2", "--force", "0.5",
+        "--amplitude", "1e-7", "--out", tmp_path / "s.nc",
+    )  # fmt: skip
+    one_line(status, err, 2, "--param", "param in [sweep] of")
+    assert os.listdir(tmp_path) == ["c.toml"]
+
+
+def test_the_config_file_is_never_an_output(tmp_path, capsys):
+    config = tmp_path / "cfg.nc"  # a TOML file, whatever its name
+    text = '[map]\nforce = "0.5"\namplitude = "1e-7"\n'
+    config.write_text(text)
+    status, _, err = run(capsys, "map", "--config", config, "--out", config, "--overwrite")
+    one_line(status, err, 2, "--config")
+    assert config.read_text() == text and os.listdir(tmp_path) == ["cfg.nc"]
+
+
+def test_too_large_toml_integer_names_its_key(tmp_path, capsys):
+    config = tmp_path / "c.toml"
+    config.write_text("[simulate]\nsamples = 99999999999999999999\n")
+    status, _, err = run(capsys, *SIM, "--config", config)
+    one_line(status, err, 2, "samples", "c.toml")
+
+
+def test_mean_velocity_is_the_displacement_over_the_duration(capsys):
+    """x does not enter eqs. (2.3)-(2.5): shifting x(0) must not change (x(T)-x(0))/T."""
+    base = ["simulate", "--force", "0.5", "--duration", "0.002"]
+    speeds = []
+    for x0 in ("0", "1e-3"):
+        status, out, err = run(capsys, *base, "--initial-state", f"1e-7,0,{x0},0")
+        assert status == 0, err
+        match = re.search(r"mean velocity \(x\(T\)-x\(0\)\)/T = (\S+) m/s", out)
+        speeds.append(float(match.group(1)))
+    assert speeds[0] == pytest.approx(speeds[1], rel=1e-6)
+    assert speeds[0] != 0.0 and abs(speeds[1]) < 1e-3 / 0.002 / 10  # not x(T)/T
+
+
+def test_unwritable_stderr_still_gives_status_2(monkeypatch):
+    class Full:
+        def write(self, text):
+            raise OSError(28, "No space left on device")
+
+        def flush(self):
+            raise OSError(28, "No space left on device")
+
+    monkeypatch.setattr("sys.stderr", Full())
+    from microslip.cli.main import main
+
+    assert main(["info", "--mu", "-1"]) == 2
+    assert main(["--", "info", "--json"]) == 0
