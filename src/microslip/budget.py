@@ -39,7 +39,10 @@ __all__ = [
     "Estimate",
     "WorkLimitError",
     "available_memory",
+    "batch_chunk_rounds",
+    "batch_threads",
     "check",
+    "check_fits",
     "default_save_every",
     "estimate_simulation",
     "estimate_sweep",
@@ -58,9 +61,23 @@ DEFAULT_MAX_SAMPLES = 1_000_000  # default_save_every: ~100 MB of NetCDF output 
 EVENT_S_PER_STEP = 0.5e-6  # measured 0.31 us per DOP853 step (0.37 us keeping every step)
 RK4_S_PER_STEP = 0.25e-6  # measured 0.15 us per RK4 step (0.19 us keeping every step)
 S_PER_SAMPLE = 0.1e-6  # measured ~0.05 us per kept sample, on top of the step
-BATCH_S_PER_LANE_STEP = 7.5e-9  # measured 5.1 ns per trajectory-step (2.0e8/s, 2 cores)
 STEADY_S_PER_ORBIT = 20e-6  # measured 13.5 us per half-orbit table (per amplitude)
-STEADY_S_PER_POINT = 1.0e-6  # measured 0.68 us per (force, amplitude) point
+# Re-measured 2026-11-24 (QA: 3e7 points took 59 s, 2 us per point, against an estimate
+# of 30 s): 1.04 us per point on a 1e6 x 3 grid, 1.95 us on 1000 x 1000 (amplitudes
+# with loss of contact cost more), 1.76 us on 1e6 x 3 with the resumable store.
+STEADY_S_PER_POINT = 3.0e-6
+# "time" sweeps (microslip.integrators.batched): a chunk's lanes run in blocks of
+# BATCH_BLOCK, the blocks in parallel over the threads, every block through every grid
+# step. A block costs about the same per step whether it holds 1 or 64 real lanes (a
+# partial block is padded with copies of its last lane), so the cost is per
+# block-step, not per lane-step. Measured 2026-11-24 with compute_chunk over 200 T0 of
+# the paper's data, per chunk-step: 1 lane 0.37-1.19 us (F in [0, 1.2] N, A in
+# [0, 3e-7] m; the most where contact is lost and every padded copy redoes its
+# switching steps), 12 lanes 0.42-0.99 us, 64 lanes 0.74 us, 4096 lanes (64 blocks on 2
+# threads) 33-41 us, i.e. 1.0-1.3 us per block-step and thread round. QA measured
+# 0.64 us (1 lane) and 1.65 us (12 lanes) per chunk-step under heavy load.
+BATCH_BLOCK = 64  # integrators.batched.DEFAULT_BLOCK
+BATCH_S_PER_BLOCK_STEP = 1.8e-6
 
 # DOP853 work per normal period T0 = 1/f0 (accepted + rejected steps + switching
 # instants), the worst of m2 in {1, 1.5, 2, 3}, F/(mu m g) in {-0.5, 0, 0.3, 0.9, 2},
@@ -82,6 +99,8 @@ DRIVER_BUFFER_BYTES = (1 << 16) * 48 + (1 << 14) * 48  # integrators.driver buff
 # Sweeps: the result array, the copy read back from the store, the Dataset written out.
 SWEEP_BYTES_PER_POINT = 32
 BATCH_BYTES_PER_LANE = 256  # coefficients, initial and final states, block scratch
+# A Python float in a tuple (32 B), its repr in the JSON definition and fingerprint.
+BYTES_PER_AXIS_VALUE = 200
 STEADY_BYTES_PER_AMPLITUDE = 2 * 8 * (16 * 256 + 16)  # one orbit table (ys, yds)
 
 
@@ -170,6 +189,18 @@ def check(estimate: Estimate, *, allow_large: bool = False) -> None:
     )
 
 
+def check_fits(estimate: Estimate) -> None:
+    """Raise :class:`WorkLimitError` if ``estimate`` needs more memory than is available
+    at all: such a job cannot run, so ``allow_large`` does not lift this check."""
+    available = available_memory()
+    if estimate.bytes <= available:
+        return
+    raise WorkLimitError(
+        f"{estimate.what}: estimated {_bytes_text(estimate.bytes)} memory, more than the "
+        f"{_bytes_text(available)} available; make the grid smaller or split it"
+    )
+
+
 # -- simulate -------------------------------------------------------------------------------
 def event_steps_per_period(rtol: float) -> float:
     """Conservative DOP853 steps (with rejections and switches) per T0 at ``rtol``."""
@@ -254,6 +285,22 @@ def default_save_every(
 
 
 # -- sweeps ---------------------------------------------------------------------------------
+def batch_threads() -> int:
+    """Threads the batched kernel runs its blocks on: the CPUs this process may use."""
+    try:
+        return max(1, len(os.sched_getaffinity(0)))
+    except (AttributeError, OSError):
+        return max(1, os.cpu_count() or 1)
+
+
+def batch_chunk_rounds(lanes: int, threads: int | None = None) -> int:
+    """Block-steps per grid step of a chunk of ``lanes`` trajectories: its blocks of
+    ``BATCH_BLOCK`` lanes, ``threads`` at a time (default :func:`batch_threads`)."""
+    threads = batch_threads() if threads is None else threads
+    blocks = -(-int(lanes) // BATCH_BLOCK)
+    return -(-blocks // threads)
+
+
 def estimate_sweep(
     *,
     method: str,
@@ -261,15 +308,21 @@ def estimate_sweep(
     n_forces: int,
     n_amplitudes: int,
     lane_steps: float = 0.0,
+    block_steps: float = 0.0,
     chunk_points: int = 1,
+    axis_values: int = 0,
 ) -> Estimate:
     """Work, run time [s] and memory [bytes] of a sweep.
 
     ``n_sets`` parameter sets, each on ``n_forces`` x ``n_amplitudes`` points. "steady":
     one orbit table per (set, amplitude) and a cycle per point. "time": ``lane_steps``
-    RK4 trajectory-steps in all. Memory: the result (``SWEEP_BYTES_PER_POINT`` per
-    point) and the buffers of the chunk of ``chunk_points`` points being computed (an
-    in-process run computes one chunk at a time; each Dask worker holds one more).
+    RK4 trajectory-steps in all (the work reported), run time from ``block_steps``, the
+    sum over chunks of grid steps x :func:`batch_chunk_rounds` (a block of 64 lanes
+    costs the same per step however few lanes it holds). Memory: the result
+    (``SWEEP_BYTES_PER_POINT`` per point) and the buffers of the chunk of
+    ``chunk_points`` points being computed (an in-process run computes one chunk at a
+    time; each Dask worker holds one more), and ``axis_values`` values of all axes
+    together at ``BYTES_PER_AXIS_VALUE`` each (the spec's tuples and its definition).
     """
     points = float(n_sets) * n_forces * n_amplitudes
     if method == "steady":
@@ -278,7 +331,7 @@ def estimate_sweep(
         buffers = 8 * chunk_points + (os.cpu_count() or 1) * STEADY_BYTES_PER_AMPLITUDE
         work, unit = points, "points"
     else:
-        seconds = lane_steps * BATCH_S_PER_LANE_STEP
+        seconds = block_steps * BATCH_S_PER_BLOCK_STEP
         buffers = BATCH_BYTES_PER_LANE * chunk_points
         work, unit = lane_steps, "trajectory-steps"
     return Estimate(
@@ -286,5 +339,5 @@ def estimate_sweep(
         work=work,
         unit=unit,
         seconds=seconds,
-        bytes=points * SWEEP_BYTES_PER_POINT + buffers,
+        bytes=points * SWEEP_BYTES_PER_POINT + buffers + axis_values * BYTES_PER_AXIS_VALUE,
     )

@@ -11,7 +11,7 @@ from microslip import validation as check
 from microslip.integrators import integrate
 from microslip.model.coefficients import pack
 from microslip.model.contact import potential_energy
-from microslip.model.parameters import Parameters
+from microslip.model.parameters import POSITION_LIMIT, Parameters
 from microslip.results import SimulationResult
 from microslip.validation import DEFAULT_RK4_STEPS_PER_PERIOD, RK4_MAX_STEP_FRACTION
 
@@ -49,7 +49,8 @@ def natural_tolerances(params: Parameters, atol: float) -> np.ndarray:
 
 
 def _checked_initial_state(params: Parameters, initial_state) -> tuple[float, ...]:
-    """(y, ẏ, x, ẋ) as floats, with a normal motion no larger than A = 1e3 y0."""
+    """(y, ẏ, x, ẋ) as floats, with a normal motion no larger than A = 1e3 y0,
+    |x| <= 1e6 m and |ẋ| <= 1e6 g T0."""
     values = check.real_array("initial_state", initial_state)
     if values.size != 4:
         raise ValueError(f"initial_state must be (y, ydot, x, xdot), got {values.size} values")
@@ -68,6 +69,16 @@ def _checked_initial_state(params: Parameters, initial_state) -> tuple[float, ..
             f"initial_state (y={y!r} m, ydot={ydot!r} m/s) has a normal motion larger than "
             f"the supported amplitude 1e3 y0 = {params.max_amplitude:.6g} m"
         )
+    x, xdot = float(values[2]), float(values[3])
+    if abs(x) > POSITION_LIMIT:
+        raise ValueError(
+            f"initial_state x={x!r} m exceeds the supported |x| <= {POSITION_LIMIT:g} m"
+        )
+    if abs(xdot) > params.max_velocity:
+        raise ValueError(
+            f"initial_state xdot={xdot!r} m/s exceeds the supported 1e6 g T0 = "
+            f"{params.max_velocity:.6g} m/s"
+        )
     return tuple(float(v) for v in values)
 
 
@@ -80,8 +91,8 @@ def simulate(
     initial_state: Sequence[float] | None = None,
     method: str = "event",
     dt: float | None = None,
-    rtol: float = DEFAULT_RTOL,
-    atol: float = DEFAULT_ATOL,
+    rtol: float | None = None,
+    atol: float | None = None,
     t_eval: Sequence[float] | np.ndarray | None = None,
     save_every: int = 1,
     allow_large: bool = False,
@@ -97,7 +108,8 @@ def simulate(
         F < 0 pushes the slider towards -x (backward sliding; with an ``initial_state``
         sliding forward, a reversal).
     duration : float
-        Simulated time [s] from t = 0; the output ends exactly at ``duration``.
+        Simulated time [s] from t = 0, at least 1e-6 T0; the output ends exactly at
+        ``duration``.
     amplitude : float, optional
         A = y0 - y_min [m] in [0, ``params.max_amplitude`` = 1e3 y0]: start at rest at
         the highest point y = y0 - A (the paper's initial conditions). Give this or
@@ -105,7 +117,8 @@ def simulate(
     initial_state : (y [m], ẏ [m/s], x [m], ẋ [m/s]), optional
         An explicit initial state instead of ``amplitude``; its normal motion must be
         no larger than that of A = 1e3 y0 (normal energy at most that of rest at
-        y = y0 - 1e3 y0).
+        y = y0 - 1e3 y0), |x| <= 1e6 m and |ẋ| <= ``params.max_velocity`` = 1e6 g T0
+        (x enters no force: x0 only shifts the output).
     method : {"event", "rk4"}
         ``"event"``: adaptive Dormand–Prince 8(5,3) (DOP853) with every switching instant located
         and the integration restarted there. ``"rk4"``: the paper's fixed-step classical
@@ -113,9 +126,10 @@ def simulate(
         it keeps 4th order through stick–slip and loss of contact.
     dt : float, optional
         RK4 step [s]; default T0/200. Must be <= T0/10 (T0 = 1/f0).
-    rtol, atol : float
-        Tolerances of ``"event"``: relative, and absolute in units of the natural
-        scales y0, y0 ω0, μ y0, μ y0 ω0.
+    rtol, atol : float, optional
+        Tolerances of ``"event"`` (defaults 1e-11 and 1e-13): relative, in [1e-14, 1e-2],
+        and absolute in units of the natural scales y0, y0 ω0, μ y0, μ y0 ω0, in
+        [1e-16, 1e-2]. Refused with ``"rk4"`` (a fixed step has no tolerance).
     t_eval : array, optional
         Output times [s] in [0, duration], non-decreasing; each is computed by a step
         of the method from the last step boundary (same accuracy as the steps).
@@ -136,11 +150,15 @@ def simulate(
     if not isinstance(params, Parameters):
         raise ValueError(f"params must be a microslip.Parameters, got {type(params).__name__}")
     force = check.force(params, force)
-    duration = check.real("duration", duration, minimum=0.0, strict=True)
+    duration = check.duration(duration, params.natural_period)
     method = check.one_of("method", method, ("event", "rk4"))
     save_every = check.positive_int("save_every", save_every)
-    rtol = check.real("rtol", rtol, minimum=0.0, strict=True)
-    atol = check.real("atol", atol, minimum=0.0, strict=True)
+    if method == "rk4":
+        for name, value in (("rtol", rtol), ("atol", atol)):  # None: not given
+            if value is not None:
+                raise ValueError(f"{name}={value!r} applies to method='event' only; rk4 uses dt")
+    rtol = check.tolerance("rtol", DEFAULT_RTOL if rtol is None else rtol, check.RTOL_RANGE)
+    atol = check.tolerance("atol", DEFAULT_ATOL if atol is None else atol, check.ATOL_RANGE)
     if (amplitude is None) == (initial_state is None):
         raise ValueError("give exactly one of amplitude or initial_state")
     if amplitude is not None:

@@ -42,10 +42,42 @@ def test_config_tables(tmp_path):
     path.write_text("[parameters]\nmu = 0.2\n[simulate]\nforce = 0.5\nsave-every = 3\n")
     data = load_config(path)
     assert parameters_from_config(data, "c.toml") == {"mu": 0.2}
-    options = command_options(data, "simulate", {"force", "save_every"}, "c.toml")
+    schemas = {"simulate": {"force", "save_every"}, "info": {"json"}}
+    options = command_options(data, "simulate", schemas, "c.toml")
     assert options == {"force": 0.5, "save_every": 3}
+    assert command_options(data, "info", schemas, "c.toml") == {}  # a shared file
     with pytest.raises(ValueError, match="unknown option 'force'"):
-        command_options(data, "simulate", {"duration"}, "c.toml")
+        command_options(data, "simulate", {"simulate": {"duration"}}, "c.toml")
+
+
+@pytest.mark.parametrize(
+    ("text", "message"),
+    [
+        ("[paramters]\nmu = 0.5\n", r"unknown table \[paramters\]"),
+        ("[Parameters]\nmu = 0.5\n", r"unknown table \[Parameters\]"),
+        ("mu = 0.5\n", r"unknown table \[mu\]"),
+        ("[simulate]\nfoo = 1\n", r"unknown option 'foo' in \[simulate\]"),  # read by info
+        (
+            "[simulate]\ninitial-state = '0,0,0,0'\ninitial_state = '0,0,0,0'\n",
+            "'initial-state' and 'initial_state' in \\[simulate\\] are the same option",
+        ),
+    ],
+)
+def test_config_refuses_unknown_tables_other_commands_keys_and_repeats(tmp_path, text, message):
+    path = tmp_path / "c.toml"
+    path.write_text(text)
+    schemas = {"simulate": {"force", "initial_state"}, "info": {"json"}}
+    with pytest.raises(ValueError, match=message):
+        command_options(load_config(path), "info", schemas, str(path))
+
+
+def test_config_not_utf8_and_huge_integer_name_the_file_and_key(tmp_path):
+    path = tmp_path / "latin1.toml"
+    path.write_bytes("[parameters]\n# m\xfc\nmu = 0.2\n".encode("latin-1"))
+    with pytest.raises(ValueError, match=r"latin1\.toml.*not UTF-8"):
+        load_config(path)
+    with pytest.raises(ValueError, match=r"x\.toml: c_n in \[parameters\] must be a number"):
+        parameters_from_config({"parameters": {"c_n": 10**400}}, "x.toml")
 
 
 def test_config_errors_name_the_file(tmp_path):

@@ -21,9 +21,10 @@ import signal
 import sys
 import warnings
 
-from microslip.cli.commands import ALL_FIGURES, cmd_figures, cmd_info, cmd_simulate, cmd_sweep
+from microslip.cli.commands import ALL_FIGURES, cmd_figures, cmd_info, cmd_simulate
 from microslip.cli.interrupts import RUN, Terminated, handling_signals
 from microslip.cli.options import CliError, finite, integer, path_text, real
+from microslip.cli.sweep_command import cmd_sweep
 from microslip.metadata import running
 
 __all__ = [

@@ -17,6 +17,7 @@ __all__ = [
     "FIELD_RANGES",
     "FORCE_LIMIT_FACTOR",
     "PARAMETER_UNITS",
+    "POSITION_LIMIT",
     "Parameters",
     "derived_log10",
 ]
@@ -40,6 +41,12 @@ DERIVED_RANGES: dict[str, tuple[float, float, str, str]] = {
 # Forces and amplitudes accepted by the solvers: |F| <= 1e6 m g, A <= 1e3 y0.
 FORCE_LIMIT_FACTOR = 1e6
 AMPLITUDE_LIMIT_FACTOR = 1e3
+# Initial tangential state accepted by simulate: |x0| <= POSITION_LIMIT and
+# |ẋ0| <= FORCE_LIMIT_FACTOR g T0. x enters no force of (2.2)-(2.5) (translation
+# invariance), so x0 only shifts the output; 1e6 m exceeds any slideway and keeps x
+# resolved to 2.2e-16 x 1e6 m = 2.2e-10 m. The speed bound is the speed the largest
+# accepted force gains in one normal period, far above any steady sliding speed.
+POSITION_LIMIT = 1e6
 
 
 def derived_log10(mass: Any, g: Any, area: Any, c_n: Any, m2: Any) -> dict[str, Any]:
@@ -130,7 +137,12 @@ class Parameters:
             value = getattr(self, f.name)
             if isinstance(value, bool) or not isinstance(value, (int, float)):
                 raise ValueError(f"{f.name} must be a real number, got {value!r}")
-            value = float(value)
+            try:
+                value = float(value)
+            except OverflowError:  # a Python int beyond the float range, e.g. 10**400
+                raise ValueError(
+                    f"{f.name} must be finite, got an integer of {len(str(value))} digits"
+                ) from None
             if not math.isfinite(value):
                 raise ValueError(f"{f.name} must be finite, got {value!r}")
             if f.metadata["positive"] and value <= 0.0:
@@ -257,6 +269,11 @@ class Parameters:
     def max_force(self) -> float:
         """Largest |F| [N] the solvers accept: ``FORCE_LIMIT_FACTOR`` m g = 1e6 m g."""
         return FORCE_LIMIT_FACTOR * self.mass * self.g
+
+    @property
+    def max_velocity(self) -> float:
+        """Largest initial |ẋ| [m/s] ``simulate`` accepts: ``FORCE_LIMIT_FACTOR`` g T0."""
+        return FORCE_LIMIT_FACTOR * self.g * self.natural_period
 
     @property
     def max_amplitude(self) -> float:

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import contextlib
+import os
 import sys
 from collections import deque
 from collections.abc import Iterator
@@ -21,6 +22,35 @@ if TYPE_CHECKING:
     import xarray as xr
 
 CONNECT_TIMEOUT_S = 5.0
+
+
+def max_workers() -> int:
+    """Most local Dask workers accepted: 4 per CPU. The chunks are CPU-bound, so more
+    workers than CPUs gain nothing, and each worker process costs ~100 MB; a million
+    of them hung the machine."""
+    return 4 * (os.cpu_count() or 1)
+
+
+def check_workers(workers: object) -> int | None:
+    """``workers`` as an int in [1, :func:`max_workers`], or None (``ValueError``)."""
+    if workers is None:
+        return None
+    if isinstance(workers, bool) or not isinstance(workers, (int, np.integer)) or workers < 1:
+        raise ValueError(f"workers must be an integer >= 1, got {workers!r}")
+    if workers > max_workers():
+        raise ValueError(
+            f"workers={workers!r} is more than {max_workers()} (4 per CPU of this machine)"
+        )
+    return int(workers)
+
+
+def check_store_path(store: str | Path) -> Path:
+    """The store's path; ``ValueError`` if its parent directory does not exist (a typo in
+    the path should not silently create directories)."""
+    path = Path(store)
+    if not str(store) or not path.parent.is_dir():
+        raise ValueError(f"store {str(store)!r}: directory {str(path.parent)!r} does not exist")
+    return path
 
 
 @contextlib.contextmanager
@@ -91,15 +121,16 @@ def run_sweep(
     recomputes damaged ones (``RuntimeWarning`` naming each) and computes the rest; the
     result equals an uninterrupted run bit for bit. ``progress`` shows a bar with ETA on
     standard error. Before returning, every point is checked to have been computed (no
-    NaN): a chunk that comes back with NaN raises ``RuntimeError``.
+    NaN): a chunk that comes back with NaN raises ``RuntimeError``. ``workers`` must
+    be in [1, :func:`max_workers`] and the store's parent directory must exist
+    (``ValueError`` before anything starts).
     """
-    if workers is not None and (isinstance(workers, bool) or int(workers) < 1):
-        raise ValueError(f"workers must be an integer >= 1, got {workers!r}")
+    workers = check_workers(workers)
+    if store is not None:
+        store = check_store_path(store)
     with contextlib.ExitStack() as stack:
         sweep_store = None
         if store is not None:
-            store = Path(store)
-            store.parent.mkdir(parents=True, exist_ok=True)
             stack.enter_context(exclusive_lock(store))  # before connecting: busy fails at once
         # Connect first: a scheduler that cannot be reached leaves no store behind.
         client = stack.enter_context(dask_client(scheduler, workers))

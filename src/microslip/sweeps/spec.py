@@ -12,15 +12,15 @@ import itertools
 import json
 import math
 from collections.abc import Iterator, Mapping
-from dataclasses import dataclass
+from dataclasses import dataclass, fields
 from typing import Any
 
 import numpy as np
 
 from microslip import budget
 from microslip import validation as check
-from microslip.model.parameters import DERIVED_RANGES, Parameters, derived_log10
-from microslip.validation import DEFAULT_RK4_STEPS_PER_PERIOD
+from microslip.model.parameters import DERIVED_RANGES, FIELD_RANGES, Parameters, derived_log10
+from microslip.validation import DEFAULT_RK4_STEPS_PER_PERIOD, MAX_AXIS_VALUES
 
 METHODS = ("steady", "time")
 DEFAULT_DURATION = 0.05  # [s], "time" method
@@ -28,6 +28,98 @@ DEFAULT_DURATION = 0.05  # [s], "time" method
 MAX_PARAMETER_SETS = 10_000_000
 _DERIVED_FIELDS = ("mass", "g", "area", "c_n", "m2")
 ChunkKey = tuple[int, ...]  # parameter-axis indices..., amplitude-chunk index
+
+
+def _axis(name: str, values: Any) -> np.ndarray:
+    """One sweep axis: distinct finite reals, at most ``MAX_AXIS_VALUES`` of them."""
+    size = np.size(values) if isinstance(values, np.ndarray) else None
+    if size is not None and size > MAX_AXIS_VALUES:  # before any copy
+        raise ValueError(f"{name}: {size} values; at most {MAX_AXIS_VALUES} are supported")
+    array = check.real_array(name, values)
+    if array.size > MAX_AXIS_VALUES:
+        raise ValueError(f"{name}: {array.size} values; at most {MAX_AXIS_VALUES} are supported")
+    ordered = np.sort(array)
+    repeated = ordered[1:][ordered[1:] == ordered[:-1]]
+    if repeated.size:  # a repeated value would make an ambiguous coordinate
+        raise ValueError(f"{name}: value {float(repeated[0])!r} is given more than once")
+    return array
+
+
+def _check_fields(params: Parameters, arrays: list[tuple[str, np.ndarray]]) -> None:
+    """Each swept value within its field's own range (as the Parameters constructor
+    checks it, vectorised); the first bad one is refused by the constructor's message."""
+    specs = {f.name: f for f in fields(Parameters)}
+    for name, values in arrays:
+        positive = specs[name].metadata["positive"]
+        ok = values > 0.0 if positive else values >= 0.0
+        low, high = FIELD_RANGES.get(name, (-math.inf, math.inf))
+        ok &= (values >= low) & (values <= high)
+        if not ok.all():
+            params.replace(**{name: float(values[np.argmin(ok)])})
+
+
+def _field_grid(base: Parameters, param_axes) -> dict[str, np.ndarray]:
+    """Each Parameters field, broadcast to the parameter axes' shape."""
+    shape = tuple(len(values) for _, values in param_axes)
+    grid = {}
+    for name in Parameters.field_names():
+        value = np.asarray(getattr(base, name), dtype=float)
+        for axis, (swept, values) in enumerate(param_axes):
+            if swept == name:
+                index = [1] * len(shape)
+                index[axis] = len(values)
+                value = np.asarray(values, dtype=float).reshape(index)
+        grid[name] = np.broadcast_to(value, shape)
+    return grid
+
+
+def _grid_logs(base: Parameters, param_axes) -> dict[str, np.ndarray]:
+    grid = _field_grid(base, param_axes)
+    logs = derived_log10(*(grid[name] for name in _DERIVED_FIELDS))
+    shape = grid["mass"].shape
+    logs = {name: np.broadcast_to(value, shape) for name, value in logs.items()}
+    logs["mg"] = np.broadcast_to(np.log10(grid["mass"]) + np.log10(grid["g"]), shape)
+    return logs
+
+
+def _estimate(
+    base: Parameters,
+    param_axes,
+    n_forces: int,
+    n_amplitudes: int,
+    method: str,
+    duration: float,
+    dt: float | None,
+    amplitude_chunk: int,
+) -> budget.Estimate:
+    """Work, run time [s] and memory [bytes] from the sizes (no per-point structure)."""
+    n_sets = math.prod(len(values) for _, values in param_axes)
+    lane_steps = block_steps = 0.0
+    if method == "time":
+        if dt is not None:
+            steps = np.full(1, float(math.ceil(duration / dt))) * n_sets
+        else:  # dt = T0/200 per set: steps = duration * 200 * f0
+            f0 = 10.0 ** _grid_logs(base, param_axes)["f0"]
+            steps = np.ceil(duration * DEFAULT_RK4_STEPS_PER_PERIOD * f0).ravel()
+        total_steps = float(np.sum(steps))
+        lane_steps = total_steps * n_forces * n_amplitudes
+        # Chunks: full ones of amplitude_chunk amplitudes and the remainder.
+        full, rest = divmod(n_amplitudes, amplitude_chunk)
+        rounds = full * budget.batch_chunk_rounds(n_forces * amplitude_chunk)
+        if rest:
+            rounds += budget.batch_chunk_rounds(n_forces * rest)
+        block_steps = total_steps * rounds
+    values = n_forces + n_amplitudes + sum(len(v) for _, v in param_axes)
+    return budget.estimate_sweep(
+        method=method,
+        n_sets=n_sets,
+        n_forces=n_forces,
+        n_amplitudes=n_amplitudes,
+        lane_steps=lane_steps,
+        block_steps=block_steps,
+        chunk_points=n_forces * amplitude_chunk,
+        axis_values=values,
+    )
 
 
 @dataclass(frozen=True)
@@ -67,6 +159,7 @@ class SweepSpec:
         duration: float | None = None,
         dt: float | None = None,
         amplitude_chunk: int | None = None,
+        allow_large: bool | None = None,
     ) -> SweepSpec:
         """Validate every input and build the spec (``ValueError`` naming the culprit).
 
@@ -77,30 +170,42 @@ class SweepSpec:
         to ``method="time"`` only: with "steady" a ``dt`` or a ``duration`` other than
         the default is refused rather than silently ignored. With "time", ``dt`` must
         be <= T0/10 for every combination (the check of ``simulate(method="rk4")``;
-        the error names the combination with the shortest T0).
+        the error names the combination with the shortest T0), and ``duration``
+        at least ``MIN_DURATION_PERIODS`` (1e-6) T0 of every combination.
+
+        Every axis (force, amplitude, each swept field) holds distinct values, at most
+        ``MAX_AXIS_VALUES`` (1e7) of them. The work and memory are estimated from the
+        sizes before any per-value structure is built: a grid whose memory exceeds the
+        available memory is refused (:class:`microslip.budget.WorkLimitError`) whatever
+        ``allow_large``; with ``allow_large`` False the full check of
+        :meth:`check_budget` is made here too (None: left to :meth:`check_budget`).
         """
         params = Parameters() if params is None else params
         if not isinstance(params, Parameters):
             raise ValueError(f"params must be a microslip.Parameters, got {type(params).__name__}")
         method = check.one_of("method", method, METHODS)
-        param_axes = []
+        if axes is not None and not isinstance(axes, Mapping):
+            raise ValueError(
+                "axes must be a mapping of Parameters field -> values, e.g. {'mu': [0.1, 0.2]}; "
+                f"got {type(axes).__name__}"
+            )
+        # Arrays first, tuples last: sizes, work and memory are checked before anything
+        # grows with the grid (a 1e9-point grid is refused in well under a second).
+        arrays = []
         for name, values in (axes or {}).items():
             if name in ("force", "amplitude"):
                 raise ValueError(f"{name!r} is a sweep axis of its own; pass it as {name}=...")
             if name not in Parameters.field_names():
                 known = ", ".join(Parameters.field_names())
                 raise ValueError(f"unknown parameter {name!r} in sweep; known: {known}")
-            array = check.real_array(name, values)
-            for value in array:  # each value must make valid Parameters
-                params.replace(**{name: float(value)})
-            param_axes.append((name, tuple(float(v) for v in array)))
-        forces = check.real_array("force", forces)
+            arrays.append((name, _axis(name, values)))
+        forces = _axis("force", forces)
         if np.any(forces < 0):
             raise ValueError(
                 f"force must be >= 0 N in a sweep (the mean velocity is computed for forward "
                 f"sliding), got {float(forces[forces < 0][0])!r}"
             )
-        amplitudes = check.real_array("amplitude", amplitudes)
+        amplitudes = _axis("amplitude", amplitudes)
         if np.any(amplitudes < 0):
             raise ValueError(
                 f"amplitude must be >= 0 m, got {float(amplitudes[amplitudes < 0][0])!r}"
@@ -119,16 +224,32 @@ class SweepSpec:
             dt = check.real("dt", dt, minimum=0.0, strict=True)
         if amplitude_chunk is None:
             amplitude_chunk = 8 if method == "steady" else max(1, 4096 // len(forces))
-        amplitude_chunk = check.positive_int("amplitude_chunk", amplitude_chunk)
+        amplitude_chunk = min(
+            check.positive_int("amplitude_chunk", amplitude_chunk), len(amplitudes)
+        )
+        n_sets = math.prod(len(values) for _, values in arrays)
+        if n_sets > MAX_PARAMETER_SETS:
+            raise ValueError(
+                f"the sweep has {n_sets} parameter combinations; at most "
+                f"{MAX_PARAMETER_SETS} are supported"
+            )
+        _check_fields(params, arrays)
+        estimate = _estimate(
+            params, arrays, len(forces), len(amplitudes), method, duration, dt, amplitude_chunk
+        )
+        if allow_large is not None:
+            budget.check(estimate, allow_large=allow_large)
+        # Memory beyond what is available cannot be had, whatever allow_large says.
+        budget.check_fits(estimate)
         spec = cls(
             base=params,
-            param_axes=tuple(param_axes),
+            param_axes=tuple((name, tuple(float(v) for v in values)) for name, values in arrays),
             forces=tuple(float(f) for f in forces),
             amplitudes=tuple(float(a) for a in amplitudes),
             method=method,
             duration=duration,
             dt=dt,
-            amplitude_chunk=min(amplitude_chunk, len(amplitudes)),
+            amplitude_chunk=amplitude_chunk,
         )
         spec._check_parameter_sets()
         return spec
@@ -138,27 +259,8 @@ class SweepSpec:
     def n_parameter_sets(self) -> int:
         return math.prod(len(values) for _, values in self.param_axes)
 
-    def _field_grid(self) -> dict[str, np.ndarray]:
-        """Each Parameters field, broadcast to the parameter axes' shape."""
-        shape = tuple(len(values) for _, values in self.param_axes)
-        grid = {}
-        for name in Parameters.field_names():
-            value = np.asarray(getattr(self.base, name), dtype=float)
-            for axis, (swept, values) in enumerate(self.param_axes):
-                if swept == name:
-                    index = [1] * len(shape)
-                    index[axis] = len(values)
-                    value = np.asarray(values, dtype=float).reshape(index)
-            grid[name] = np.broadcast_to(value, shape)
-        return grid
-
     def _grid_logs(self) -> dict[str, np.ndarray]:
-        grid = self._field_grid()
-        logs = derived_log10(*(grid[name] for name in _DERIVED_FIELDS))
-        shape = grid["mass"].shape
-        logs = {name: np.broadcast_to(value, shape) for name, value in logs.items()}
-        logs["mg"] = np.broadcast_to(np.log10(grid["mass"]) + np.log10(grid["g"]), shape)
-        return logs
+        return _grid_logs(self.base, self.param_axes)
 
     def _params_at_index(self, index: tuple[int, ...]) -> Parameters:
         return self.params_at((*index, 0))
@@ -196,6 +298,10 @@ class SweepSpec:
             check.amplitude(self._params_at_index(worst_y0), max(self.amplitudes))
         except ValueError as error:
             raise ValueError(f"{error}{self._where(worst_y0)}") from None
+        if self.method == "time":
+            longest = np.unravel_index(np.argmax(logs["T0"]), logs["T0"].shape)
+            params = self._params_at_index(longest)
+            check.duration(self.duration, params.natural_period, where=self._where(longest))
         if self.method == "time" and self.dt is not None:
             worst = np.unravel_index(np.argmin(logs["T0"]), logs["T0"].shape)
             params = self._params_at_index(worst)
@@ -203,26 +309,10 @@ class SweepSpec:
 
     def estimate(self) -> budget.Estimate:
         """Estimated work, run time [s] and memory [bytes] (:mod:`microslip.budget`)."""
-        n_forces, n_amplitudes = len(self.forces), len(self.amplitudes)
-        lane_steps = 0.0
-        if self.method == "time":
-            if self.dt is not None:
-                steps_per_set = math.ceil(self.duration / self.dt)
-                lane_steps = float(steps_per_set) * self.n_parameter_sets
-            else:  # dt = T0/200 per set: steps = duration * 200 * f0
-                f0 = 10.0 ** self._grid_logs()["f0"]
-                lane_steps = float(
-                    np.sum(np.ceil(self.duration * DEFAULT_RK4_STEPS_PER_PERIOD * f0))
-                )
-            lane_steps *= n_forces * n_amplitudes
-        return budget.estimate_sweep(
-            method=self.method,
-            n_sets=self.n_parameter_sets,
-            n_forces=n_forces,
-            n_amplitudes=n_amplitudes,
-            lane_steps=lane_steps,
-            chunk_points=n_forces * self.amplitude_chunk,
-        )
+        return _estimate(
+            self.base, self.param_axes, len(self.forces), len(self.amplitudes), self.method,
+            self.duration, self.dt, self.amplitude_chunk,
+        )  # fmt: skip
 
     def check_budget(self, *, allow_large: bool = False) -> None:
         """Refuse (:class:`microslip.budget.WorkLimitError`) a sweep whose estimated run
