@@ -167,7 +167,7 @@ def test_ctrl_c_in_simulate_is_one_line_exit_130_and_no_file(tmp_path):
 def test_second_map_on_the_same_output_stops_at_once(tmp_path):
     out = tmp_path / "map.nc"
     long_map = ["map", "--force", "0.05:0.95:40", "--amplitude", "0:3e-7:150", "--chunk", "1"]
-    long_map += ["--method", "time", "--duration", "0.004", "--quiet", "--out", str(out)]
+    long_map += ["--method", "time", "--duration", "1.0", "--quiet", "--out", str(out)]
     first = subprocess.Popen(
         [*_microslip(), *long_map], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True
     )
