@@ -312,11 +312,19 @@ def _late_signal(signum: int, frame) -> None:
     os._exit(_interrupted(RUN.command, interrupt))
 
 
+def _ignore_unraisable(_unraisable) -> None:
+    """After an interrupt: objects cut off mid-construction (an interrupted JIT compile
+    leaves half-built llvmlite objects) fail in ``__del__`` at shutdown; their "Exception
+    ignored in ..." tracebacks would follow the one line already printed."""
+
+
 def entry_point() -> None:
     status = main()
     if status == 0:
         for sig in (signal.SIGINT, signal.SIGTERM):
             signal.signal(sig, _late_signal)
+    elif status in (EXIT_INTERRUPTED, EXIT_TERMINATED):
+        sys.unraisablehook = _ignore_unraisable
     sys.exit(status)
 
 
