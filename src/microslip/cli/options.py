@@ -202,12 +202,7 @@ def real(text: str) -> float:
 
 def finite(text: str) -> float:
     """argparse type: a finite float, else a one-line error (argparse names the flag)."""
-    if "_" in text:
-        raise argparse.ArgumentTypeError(f"'_' is not allowed in a number, got {text!r}")
-    try:
-        value = float(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"not a number: {text!r}") from None
+    value = real(text)
     if not np.isfinite(value):
         raise argparse.ArgumentTypeError(f"must be finite, got {text!r}")
     return value

@@ -11,6 +11,8 @@ from typing import Any
 
 import numpy as np
 
+from microslip import validation as check
+
 __all__ = [
     "AMPLITUDE_LIMIT_FACTOR",
     "DERIVED_RANGES",
@@ -134,17 +136,7 @@ class Parameters:
 
     def __post_init__(self) -> None:
         for f in fields(self):
-            value = getattr(self, f.name)
-            if isinstance(value, bool) or not isinstance(value, (int, float)):
-                raise ValueError(f"{f.name} must be a real number, got {value!r}")
-            try:
-                value = float(value)
-            except OverflowError:  # a Python int beyond the float range, e.g. 10**400
-                raise ValueError(
-                    f"{f.name} must be finite, got an integer of {len(str(value))} digits"
-                ) from None
-            if not math.isfinite(value):
-                raise ValueError(f"{f.name} must be finite, got {value!r}")
+            value = check.real(f.name, getattr(self, f.name))  # a finite float
             if f.metadata["positive"] and value <= 0.0:
                 raise ValueError(f"{f.name} must be > 0 [{f.metadata['unit']}], got {value!r}")
             if not f.metadata["positive"] and value < 0.0:
