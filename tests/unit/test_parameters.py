@@ -84,6 +84,8 @@ def test_from_interface_recovers_the_paper():
         ({"e_n": 1e-8, "m1": math.inf}, "m1"),
         ({"e_n": 1e-8, "m1": 0.5, "c_n": 1.0}, "c_n"),
         ({"e_n": 1e-8, "m1": 0.5, "m2": 2.0}, "m2"),
+        ({"e_n": "1e-8", "m1": 0.5}, "e_n"),  # a string, not a number
+        ({"e_n": True, "m1": 0.5}, "e_n"),
     ],
 )
 def test_from_interface_rejects_bad_input(kwargs, name):
