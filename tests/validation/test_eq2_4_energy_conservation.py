@@ -69,11 +69,15 @@ def test_energy_is_conserved_for_other_exponents(m2, fraction):
     assert energy_drift(p, r) < 3e-11 * periods
 
 
-def test_normal_energy_matches_the_formula():
-    y = np.linspace(-2 * Y0, 3 * Y0, 101)
+@pytest.mark.parametrize("changes", [{}, {"mass": 2.5, "m2": 1.5}])  # m = 1 hides m vs 1/m
+def test_normal_energy_matches_the_formula(changes):
+    p = P.replace(**changes)
+    y0 = p.static_deflection
+    y = np.linspace(-2 * y0, 3 * y0, 101)
     ydot = np.linspace(-1e-3, 1e-3, 101)
+    scale = p.mass * p.g * y0
     np.testing.assert_allclose(
-        ms.normal_energy(P, y, ydot), energy(P, y, ydot), rtol=1e-14, atol=1e-14 * P.g * Y0
+        ms.normal_energy(p, y, ydot), energy(p, y, ydot), rtol=1e-14, atol=1e-14 * scale
     )
 
 
