@@ -255,13 +255,6 @@ class SweepSpec:
         return spec
 
     # -- checks over every parameter combination ------------------------------------------
-    @property
-    def n_parameter_sets(self) -> int:
-        return math.prod(len(values) for _, values in self.param_axes)
-
-    def _grid_logs(self) -> dict[str, np.ndarray]:
-        return _grid_logs(self.base, self.param_axes)
-
     def _params_at_index(self, index: tuple[int, ...]) -> Parameters:
         return self.params_at((*index, 0))
 
@@ -275,13 +268,10 @@ class SweepSpec:
         return f" at {text}"
 
     def _check_parameter_sets(self) -> None:
-        """Every combination valid; forces, amplitudes and dt within its limits."""
-        if self.n_parameter_sets > MAX_PARAMETER_SETS:
-            raise ValueError(
-                f"the sweep has {self.n_parameter_sets} parameter combinations; at most "
-                f"{MAX_PARAMETER_SETS} are supported"
-            )
-        logs = self._grid_logs()
+        """Every combination valid; forces, amplitudes and dt within its limits.
+
+        Called by :meth:`build` once it has checked the number of combinations."""
+        logs = _grid_logs(self.base, self.param_axes)
         bad = np.zeros(logs["mg"].shape, dtype=bool)
         for name, (low, high, _unit, _description) in DERIVED_RANGES.items():
             bad |= ~((logs[name] >= math.log10(low)) & (logs[name] <= math.log10(high)))
