@@ -187,3 +187,24 @@ def test_unwritable_stderr_still_gives_status_2(monkeypatch):
 
     assert main(["info", "--mu", "-1"]) == 2
     assert main(["--", "info", "--json"]) == 0
+
+
+@pytest.mark.parametrize(("sig", "code"), [(signal.SIGINT, 130), (signal.SIGTERM, 143)])
+def test_an_interrupt_swallowed_by_native_code_is_still_reported_as_one(
+    capsys, monkeypatch, sig, code
+):
+    """Ctrl-C during a JIT compile lands in an llvmlite callback: Python prints it as
+    "Exception ignored" and numba then fails with a RuntimeError. The user pressed
+    Ctrl-C: one line, exit 130/143, not an "internal error" with a traceback above it."""
+    import ctypes
+
+    def compile_like_numba(args):
+        callback = ctypes.CFUNCTYPE(None)(lambda: os.kill(os.getpid(), sig))
+        callback()  # the interrupt raised inside the callback cannot propagate
+        raise RuntimeError("no compiled object yet")
+
+    monkeypatch.setattr("microslip.cli.main.cmd_info", compile_like_numba)
+    status, _, err = run(capsys, "info")
+    word = "terminated" if sig == signal.SIGTERM else "interrupted"
+    one_line(status, err, code, word)
+    assert "Exception ignored" not in err and "internal error" not in err

@@ -12,11 +12,12 @@ from __future__ import annotations
 
 import contextlib
 import signal
+import sys
 import threading
 from collections.abc import Iterator
 from dataclasses import dataclass, field
 
-__all__ = ["RUN", "Terminated", "handling_signals", "uninterruptible"]
+__all__ = ["RUN", "Terminated", "handling_signals", "interrupt_for", "uninterruptible"]
 
 _SIGNALS = (signal.SIGINT, signal.SIGTERM)
 
@@ -31,6 +32,7 @@ class RunRecord:
 
     command: str = "?"
     written: list[str] = field(default_factory=list)
+    signal: int | None = None  # the first SIGINT/SIGTERM received, raised or not
 
 
 RUN = RunRecord()
@@ -38,13 +40,18 @@ _held: list[int] = []
 _depth = [0]
 
 
+def interrupt_for(signum: int) -> KeyboardInterrupt:
+    """The exception that stands for signal ``signum``."""
+    return Terminated() if signum == signal.SIGTERM else KeyboardInterrupt()
+
+
 def _raise_for(signum: int) -> None:
-    if signum == signal.SIGTERM:
-        raise Terminated()
-    raise KeyboardInterrupt()
+    raise interrupt_for(signum)
 
 
 def _handler(signum: int, frame) -> None:
+    if RUN.signal is None:
+        RUN.signal = signum
     if _depth[0]:
         _held.append(signum)  # raised when the uninterruptible block ends
         return
@@ -58,8 +65,18 @@ def handling_signals() -> Iterator[None]:
         yield
         return
     previous = {sig: signal.getsignal(sig) for sig in _SIGNALS}
+    previous_hook = sys.unraisablehook
     _held.clear()
     _depth[0] = 0
+
+    def unraisable(record) -> None:
+        # Native code calling back into Python (llvmlite during a JIT compile) cannot
+        # propagate our interrupt: it prints it as "Exception ignored" and fails after.
+        # RUN.signal has it; the command line reports the interrupt in its own line.
+        if record.exc_type is None or not issubclass(record.exc_type, KeyboardInterrupt):
+            previous_hook(record)
+
+    sys.unraisablehook = unraisable
     for sig in _SIGNALS:
         signal.signal(sig, _handler)
     try:
@@ -67,6 +84,7 @@ def handling_signals() -> Iterator[None]:
     finally:
         for sig, old in previous.items():
             signal.signal(sig, old)
+        sys.unraisablehook = previous_hook
 
 
 @contextlib.contextmanager

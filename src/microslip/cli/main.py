@@ -22,7 +22,7 @@ import sys
 import warnings
 
 from microslip.cli.commands import ALL_FIGURES, cmd_figures, cmd_info, cmd_simulate
-from microslip.cli.interrupts import RUN, Terminated, handling_signals
+from microslip.cli.interrupts import RUN, Terminated, handling_signals, interrupt_for
 from microslip.cli.options import CliError, finite, integer, path_text, real
 from microslip.cli.sweep_command import cmd_sweep
 from microslip.metadata import running
@@ -253,7 +253,7 @@ def main(argv: list[str] | None = None) -> int:
     command = "?"
     try:
         argv = sys.argv[1:] if argv is None else list(argv)
-        RUN.command, RUN.written = "?", []
+        RUN.command, RUN.written, RUN.signal = "?", [], None
         # `microslip -- info`: "--" ends the options; the command still follows it
         words = argv[1:] if argv[:1] == ["--"] else argv
         args, extra = build_parser().parse_known_args(_join_negative_numbers(words))
@@ -281,27 +281,27 @@ def main(argv: list[str] | None = None) -> int:
         return 0
     except KeyboardInterrupt as interrupt:  # also SIGTERM (Terminated)
         return _interrupted(command, interrupt)
-    except (ValueError, ConnectionError, TimeoutError) as error:
+    except Exception as error:
+        if RUN.signal is not None:  # an interrupt that native code swallowed, then failed
+            return _interrupted(command, interrupt_for(RUN.signal))
         if debug:
             raise
-        return _fail(command, f"error: {error}")
-    except MemoryError:
-        if debug:
-            raise
-        return _fail(command, "error: out of memory; use a smaller problem")
-    except OSError as error:
-        if debug:
-            raise
+        return _fail(command, _error_text(error))
+
+
+def _error_text(error: Exception) -> str:
+    """The one line for a failure: the user's error, or a bug to report."""
+    if isinstance(error, (ValueError, ConnectionError, TimeoutError)):
+        return f"error: {error}"
+    if isinstance(error, MemoryError):
+        return "error: out of memory; use a smaller problem"
+    if isinstance(error, OSError):
         where = f" ({error.filename})" if error.filename else ""
-        return _fail(command, f"error: {error.strerror or error}{where}")
-    except Exception as error:  # a bug: still one line, with what is needed to report it
-        if debug:
-            raise
-        return _fail(
-            command,
-            f"internal error: {type(error).__name__}: {error}; please report it "
-            "(MICROSLIP_DEBUG=1 shows the traceback)",
-        )
+        return f"error: {error.strerror or error}{where}"
+    return (
+        f"internal error: {type(error).__name__}: {error}; please report it "
+        "(MICROSLIP_DEBUG=1 shows the traceback)"
+    )
 
 
 def _late_signal(signum: int, frame) -> None:
