@@ -1,8 +1,11 @@
 """Layout of the flat coefficient vector handed to the compiled kernels.
 
-Compiled kernels take the model as one float64 array so that a single cached
-compilation serves every parameter set. Each law reads its own slots; a new law
-appends slots here instead of changing integrator signatures.
+Compiled kernels take the whole model as one float64 array so that a single cached
+compilation serves every parameter set and every composition of parts. Each law reads
+its own slots; the kind slots select the law of a part at run time (a branch on a
+loop-invariant value, so the compiled loops unswitch it). A new law appends its slots
+here and writes them in its own ``pack``; no integrator signature changes.
+See docs/design.md for the parts and the state layout.
 """
 
 from __future__ import annotations
@@ -17,16 +20,26 @@ AREA_CN = 2  # S c_n [N/m^m2]
 EXPONENT = 3  # m2 [-]
 MU = 4  # μ [-]
 FORCE = 5  # constant tangential drive F [N]
-SIZE = 6
+STATIC_DEFLECTION = 6  # y0 [m] (derived; scale of the gap switching function)
+DAMPING_KIND = 7  # microslip.model.damping: NONE, VISCOUS, HUNT_CROSSLEY
+DAMPING_COEFFICIENT = 8  # c [N s/m], c = 2 ζ sqrt(K_n m)
+EXCITATION_KIND = 9  # microslip.model.excitation: NONE, HARMONIC_FORCE, BASE_MOTION, PRESCRIBED
+EXCITATION_AMPLITUDE = 10  # P0 [N], Z [m] or Δ [m], per kind
+EXCITATION_OMEGA = 11  # ω = 2π f [rad/s]
+EXCITATION_MEAN = 12  # δ_m [m] (prescribed penetration)
+SIZE = 13
 
 
 def pack(params: Parameters, force: float) -> np.ndarray:
-    """The coefficient vector for ``params`` driven by a constant force ``force`` [N]."""
-    c = np.empty(SIZE)
+    """The coefficient vector of the paper's model (no damping, no excitation) for
+    ``params`` driven by a constant force ``force`` [N]. Parts write their own slots
+    on top of this (:meth:`microslip.model.composition.Model.pack`)."""
+    c = np.zeros(SIZE)
     c[MASS] = params.mass
     c[GRAVITY] = params.g
     c[AREA_CN] = params.stiffness_coefficient
     c[EXPONENT] = params.m2
     c[MU] = params.mu
     c[FORCE] = force
+    c[STATIC_DEFLECTION] = params.static_deflection
     return c

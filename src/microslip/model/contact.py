@@ -15,6 +15,8 @@ from microslip.model.coefficients import AREA_CN, EXPONENT, GRAVITY, MASS
 from microslip.model.parameters import Parameters
 
 __all__ = [
+    "elastic_force",
+    "elastic_stiffness",
     "normal_acceleration",
     "normal_reaction",
     "potential_energy",
@@ -25,29 +27,46 @@ __all__ = [
 
 
 @njit(cache=True, inline="always")
+def elastic_force(delta, c):
+    """The power law S c_n max(δ, 0)^m2 [N] of eq. (2.3) at penetration δ [m].
+
+    The only implementation of the power law in compiled code; the damping laws
+    (:mod:`microslip.model.damping`) and the composed normal force
+    (:mod:`microslip.model.normal`) build on it.
+    """
+    if delta <= 0.0:
+        return 0.0
+    m2 = c[EXPONENT]
+    if m2 == 2.0:
+        return c[AREA_CN] * delta * delta
+    return c[AREA_CN] * delta**m2
+
+
+@njit(cache=True, inline="always")
+def elastic_stiffness(delta, c):
+    """d(S c_n δ^m2)/dδ = m2 S c_n δ^(m2-1) [N/m] (0 for δ <= 0)."""
+    if delta <= 0.0:
+        return 0.0
+    m2 = c[EXPONENT]
+    if m2 == 2.0:
+        return 2.0 * c[AREA_CN] * delta
+    return m2 * c[AREA_CN] * delta ** (m2 - 1.0)
+
+
+@njit(cache=True, inline="always")
 def reaction(y: float, ydot: float, c: np.ndarray) -> float:
     """Compressive normal reaction |R| = S c_n max(y, 0)^m2 [N], eq. (2.3).
 
     ``ydot`` [m/s] is unused by the elastic law; it is part of the signature so that a
     dissipative contact law can take its place without touching the integrators.
     """
-    if y <= 0.0:
-        return 0.0
-    m2 = c[EXPONENT]
-    if m2 == 2.0:
-        return c[AREA_CN] * y * y
-    return c[AREA_CN] * y**m2
+    return elastic_force(y, c)
 
 
 @njit(cache=True, inline="always")
 def reaction_rate(y: float, ydot: float, c: np.ndarray) -> float:
     """d|R|/dt = m2 S c_n y^(m2-1) ẏ [N/s] along the motion (0 out of contact)."""
-    if y <= 0.0:
-        return 0.0
-    m2 = c[EXPONENT]
-    if m2 == 2.0:
-        return 2.0 * c[AREA_CN] * y * ydot
-    return m2 * c[AREA_CN] * y ** (m2 - 1.0) * ydot
+    return elastic_stiffness(y, c) * ydot
 
 
 @njit(cache=True, inline="always")

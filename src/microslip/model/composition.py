@@ -1,0 +1,186 @@
+"""``Model``: a frozen composition of the parts of the slider–slideway system.
+
+The paper's model (Grudziński & Kostek 2005) is ``Model(Parameters())``: elastic
+power-law contact (2.3), no damping, free normal vibration, rigid tangential contact,
+Coulomb friction (2.2), constant tangential force (Sec. 4). Each part is an optional
+frozen object (``None`` is the paper's choice):
+
+    damping     Viscous(ratio) | HuntCrossley(ratio)                 model/damping.py
+    excitation  HarmonicForce | BaseMotion | PrescribedPenetration   model/excitation.py
+
+Every numeric field of every part has a dotted name ("damping.ratio",
+"excitation.frequency"); the contact constants are the bare Parameters names ("mu",
+"m2", ...; "params.mu" is accepted too). :meth:`Model.replace` and the sweeps use them.
+See docs/design.md.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+
+from microslip.model.coefficients import pack as pack_paper
+from microslip.model.damping import HuntCrossley, Viscous
+from microslip.model.excitation import BaseMotion, HarmonicForce, PrescribedPenetration
+from microslip.model.parameters import Parameters
+from microslip.model.parts import Part
+
+__all__ = ["PART_TYPES", "Model", "as_model"]
+
+#: The slots of a Model and the part types each one accepts (None: the paper's choice).
+PART_TYPES: dict[str, tuple[type, ...]] = {
+    "damping": (Viscous, HuntCrossley),
+    "excitation": (HarmonicForce, BaseMotion, PrescribedPenetration),
+}
+
+
+@dataclass(frozen=True)
+class Model:
+    """The slider on a compliant contact, as a composition of parts.
+
+    Attributes
+    ----------
+    params : Parameters
+        Contact and friction constants (m, g, S, c_n, m2, μ); the paper's by default.
+    damping : Viscous or HuntCrossley, optional
+        Normal damping of the contact; ``None``: the paper's elastic contact.
+    excitation : HarmonicForce, BaseMotion or PrescribedPenetration, optional
+        Normal excitation; ``None``: the paper's free normal vibration.
+    """
+
+    params: Parameters = field(default_factory=Parameters)
+    damping: Viscous | HuntCrossley | None = None
+    excitation: HarmonicForce | BaseMotion | PrescribedPenetration | None = None
+
+    def __post_init__(self) -> None:
+        if not isinstance(self.params, Parameters):
+            raise ValueError(
+                f"params must be a microslip.Parameters, got {type(self.params).__name__}"
+            )
+        for slot, types in PART_TYPES.items():
+            part = getattr(self, slot)
+            if part is not None and not isinstance(part, types):
+                names = ", ".join(f"ms.{t.__name__}" for t in types)
+                raise ValueError(
+                    f"{slot} must be one of {names} or None, got {type(part).__name__}"
+                )
+            if part is not None:
+                part.check(self.params)
+
+    # -- parts ---------------------------------------------------------------------------
+    def parts(self) -> dict[str, Part | None]:
+        """The parts by slot name (``None`` where the paper's choice is kept)."""
+        return {slot: getattr(self, slot) for slot in PART_TYPES}
+
+    @property
+    def is_paper(self) -> bool:
+        """True when every part is the paper's choice (only ``params`` may differ)."""
+        return all(part is None for part in self.parts().values())
+
+    @property
+    def is_periodically_forced(self) -> bool:
+        """True with a normal excitation (the steady normal motion has its period)."""
+        return self.excitation is not None
+
+    def describe(self) -> str:
+        """One line naming the parts, e.g. ``damping=Viscous(ratio=0.03), excitation=None``."""
+        out = []
+        for slot, part in self.parts().items():
+            if part is None:
+                out.append(f"{slot}=None")
+            else:
+                values = ", ".join(f"{k}={v!r}" for k, v in part.to_dict().items())
+                out.append(f"{slot}={type(part).__name__}({values})")
+        return ", ".join(out)
+
+    # -- dotted names -------------------------------------------------------------------
+    def numeric_fields(self) -> dict[str, tuple[float, str]]:
+        """Every numeric field by dotted name: (value, SI unit)."""
+        out = {
+            name: (getattr(self.params, name), Parameters.field_unit(name))
+            for name in Parameters.field_names()
+        }
+        for slot, part in self.parts().items():
+            if part is None:
+                continue
+            for name in part.field_names():
+                out[f"{slot}.{name}"] = (getattr(part, name), part.field_unit(name))
+        return out
+
+    def unit(self, name: str) -> str:
+        """SI unit of the field with dotted ``name``."""
+        return self.numeric_fields()[self.canonical_name(name)][1]
+
+    def canonical_name(self, name: str) -> str:
+        """``name`` as listed by :meth:`numeric_fields` ("params.mu" -> "mu")."""
+        if not isinstance(name, str):
+            raise ValueError(f"a field name must be a string, got {name!r}")
+        short = name.removeprefix("params.")
+        if short in self.numeric_fields():
+            return short
+        slot = name.split(".", 1)[0]
+        if slot in PART_TYPES and getattr(self, slot) is None:
+            raise ValueError(
+                f"{name!r}: this model has no {slot} part (give one, e.g. "
+                f"{PART_TYPES[slot][0].__name__}(...), before sweeping its fields)"
+            )
+        raise ValueError(f"unknown model field {name!r}; known: {', '.join(self.numeric_fields())}")
+
+    def replace(self, **changes: Any) -> Model:
+        """A copy with fields changed by dotted name, e.g.
+        ``model.replace(**{"damping.ratio": 0.05, "mu": 0.2})``; a part given by its slot
+        name (``damping=ms.Viscous(0.1)`` or ``damping=None``) replaces the whole part."""
+        params_changes: dict[str, float] = {}
+        part_changes: dict[str, dict[str, float]] = {}
+        whole: dict[str, Any] = {}
+        for name, value in changes.items():
+            if name in PART_TYPES or name == "params":
+                whole[name] = value
+                continue
+            name = self.canonical_name(name)
+            if "." in name:
+                slot, attr = name.split(".", 1)
+                part_changes.setdefault(slot, {})[attr] = value
+            else:
+                params_changes[name] = value
+        current = {"params": self.params, **self.parts(), **whole}
+        if params_changes:
+            current["params"] = current["params"].replace(**params_changes)
+        for slot, values in part_changes.items():
+            current[slot] = current[slot].replace(**values)
+        return Model(**current)
+
+    # -- compiled form --------------------------------------------------------------------
+    def pack(self, force: float = 0.0) -> np.ndarray:
+        """The coefficient vector of the compiled laws (:mod:`microslip.model.coefficients`)
+        for a constant tangential force ``force`` [N]."""
+        c = pack_paper(self.params, force)
+        for part in self.parts().values():
+            if part is not None:
+                part.pack(c, self.params)
+        return c
+
+    def to_attrs(self) -> dict[str, Any]:
+        """Flat attributes for NetCDF files: ``param_<field>``, ``<slot>`` (the part's
+        class name or "none") and ``<slot>_<field>`` for each part field."""
+        attrs: dict[str, Any] = {f"param_{k}": v for k, v in self.params.to_dict().items()}
+        for slot, part in self.parts().items():
+            attrs[slot] = "none" if part is None else type(part).__name__
+            if part is not None:
+                attrs.update({f"{slot}_{k}": v for k, v in part.to_dict().items()})
+        return attrs
+
+
+def as_model(value: Model | Parameters | None) -> Model:
+    """A Model from a Model, a Parameters (the paper's parts) or None (the paper's data)."""
+    if value is None:
+        return Model()
+    if isinstance(value, Model):
+        return value
+    if isinstance(value, Parameters):
+        return Model(value)
+    raise ValueError(
+        f"expected a microslip.Model or microslip.Parameters, got {type(value).__name__}"
+    )

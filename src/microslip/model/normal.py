@@ -1,0 +1,113 @@
+"""The composed normal motion: contact law + damping + excitation (docs/design.md).
+
+    m ÿ = m g + P(t) - N,    N = max(0, N_raw(δ, δ̇)) while δ > 0, else 0,
+
+with δ = y - z(t) the penetration, N_raw the elastic law (2.3) with the damping of
+:mod:`microslip.model.damping`, P(t) and z(t) from :mod:`microslip.model.excitation`.
+With a prescribed penetration the normal degree of freedom is removed: δ(t) is
+given, and y, ẏ carry δ, δ̇ (z = 0).
+
+Every path (event and rk4 integration, the batched kernel, the steady state, shooting
+and continuation) evaluates the normal force through these functions. They depend on
+the normal state (t, y, ẏ) only: the normal motion never depends on the tangential one.
+"""
+
+from __future__ import annotations
+
+from numba import njit
+
+from microslip import _jit_cache  # noqa: F401  (registers the cache before any @njit)
+from microslip.model.coefficients import GRAVITY, MASS
+from microslip.model.contact import elastic_force, elastic_stiffness
+from microslip.model.damping import damped_force, damped_force_partials
+from microslip.model.excitation import (
+    applied_force,
+    is_prescribed,
+    prescribed_gap,
+    surface_motion,
+)
+
+__all__ = [
+    "gap",
+    "normal_acceleration",
+    "normal_force",
+    "normal_force_partials",
+    "normal_force_rate",
+    "raw_normal_force",
+]
+
+
+@njit(cache=True, inline="always")
+def gap(t, y, ydot, c):
+    """(δ [m], δ̇ [m/s], z̈ [m/s^2]): penetration, its rate, and the surface acceleration.
+
+    With a prescribed penetration, δ and δ̇ are the prescribed ones and the third value
+    is δ̈ (the body's ÿ then follows δ̈).
+    """
+    if is_prescribed(c):
+        return prescribed_gap(t, c)
+    z, zdot, zddot = surface_motion(t, c)
+    return y - z, ydot - zdot, zddot
+
+
+@njit(cache=True, inline="always")
+def raw_normal_force(t, y, ydot, c):
+    """N_raw [N], the unclipped contact law at (t, y, ẏ); meaningful while δ > 0.
+
+    In contact iff δ > 0 and N_raw > 0. For δ <= 0 the elastic part is 0 and N_raw is
+    the damping term alone.
+    """
+    delta, delta_rate, _ = gap(t, y, ydot, c)
+    return damped_force(elastic_force(delta, c), delta_rate, c)
+
+
+@njit(cache=True, inline="always")
+def normal_force(t, y, ydot, c):
+    """Compressive normal force N >= 0 [N] (the paper's |R|, eq. 2.3, with damping)."""
+    delta, delta_rate, _ = gap(t, y, ydot, c)
+    if delta <= 0.0:
+        return 0.0
+    n = damped_force(elastic_force(delta, c), delta_rate, c)
+    return n if n > 0.0 else 0.0
+
+
+@njit(cache=True, inline="always")
+def normal_acceleration(t, y, ydot, c):
+    """ÿ [m/s^2]: g + P(t)/m - N/m (eq. 2.4 with excitation); δ̈(t) if prescribed."""
+    if is_prescribed(c):
+        return prescribed_gap(t, c)[2]
+    return c[GRAVITY] + (applied_force(t, c) - normal_force(t, y, ydot, c)) / c[MASS]
+
+
+@njit(cache=True, inline="always")
+def normal_force_partials(t, y, ydot, c):
+    """(∂N/∂y [N/m], ∂N/∂ẏ [N s/m]); 0 out of contact and where N is clipped.
+
+    With a prescribed penetration N does not depend on the state: (0, 0).
+    """
+    if is_prescribed(c):
+        return 0.0, 0.0
+    delta, delta_rate, _ = gap(t, y, ydot, c)
+    if delta <= 0.0:
+        return 0.0, 0.0
+    elastic = elastic_force(delta, c)
+    if damped_force(elastic, delta_rate, c) <= 0.0:
+        return 0.0, 0.0
+    return damped_force_partials(elastic, elastic_stiffness(delta, c), delta_rate, c)
+
+
+@njit(cache=True, inline="always")
+def normal_force_rate(t, y, ydot, c):
+    """dN/dt [N/s] along the motion (0 out of contact or while clipped)."""
+    delta, delta_rate, third = gap(t, y, ydot, c)
+    if delta <= 0.0:
+        return 0.0
+    elastic = elastic_force(delta, c)
+    if damped_force(elastic, delta_rate, c) <= 0.0:
+        return 0.0
+    d_delta, d_rate = damped_force_partials(elastic, elastic_stiffness(delta, c), delta_rate, c)
+    if is_prescribed(c):
+        delta_accel = third
+    else:
+        delta_accel = normal_acceleration(t, y, ydot, c) - third
+    return d_delta * delta_rate + d_rate * delta_accel
