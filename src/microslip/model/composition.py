@@ -21,18 +21,19 @@ from typing import Any
 
 import numpy as np
 
+from microslip.model import damping, excitation  # noqa: F401  (their parts register)
 from microslip.model.coefficients import pack as pack_paper
 from microslip.model.damping import HuntCrossley, Viscous
 from microslip.model.excitation import BaseMotion, HarmonicForce, PrescribedPenetration
 from microslip.model.parameters import Parameters
-from microslip.model.parts import Part
+from microslip.model.parts import REGISTRY, Part
 
 __all__ = ["PART_TYPES", "Model", "as_model"]
 
-#: The slots of a Model and the part types each one accepts (None: the paper's choice).
+#: The slots of a Model and the part types each one accepts (None: the paper's choice);
+#: filled by the part modules themselves (:data:`microslip.model.parts.REGISTRY`).
 PART_TYPES: dict[str, tuple[type, ...]] = {
-    "damping": (Viscous, HuntCrossley),
-    "excitation": (HarmonicForce, BaseMotion, PrescribedPenetration),
+    slot: tuple(REGISTRY[slot]) for slot in ("damping", "excitation")
 }
 
 

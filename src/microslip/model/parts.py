@@ -22,7 +22,11 @@ import numpy as np
 from microslip import validation as check
 from microslip.model.parameters import Parameters
 
-__all__ = ["Part", "part_field"]
+__all__ = ["REGISTRY", "Part", "part_field"]
+
+#: Concrete part classes by slot name, in definition order: a class that defines its own
+#: ``kind`` registers itself, so a new law is added in its own module only.
+REGISTRY: dict[str, list[type]] = {}
 
 
 def part_field(default: float, unit: str, description: str, low: float, high: float) -> Any:
@@ -38,6 +42,11 @@ class Part:
 
     #: Name of the slot this part fills in a Model ("damping", "excitation", ...).
     slot: ClassVar[str] = ""
+
+    def __init_subclass__(cls, **kwargs: Any) -> None:
+        super().__init_subclass__(**kwargs)
+        if cls.slot and "kind" in cls.__dict__:
+            REGISTRY.setdefault(cls.slot, []).append(cls)
 
     def __post_init__(self) -> None:
         for f in fields(self):  # type: ignore[arg-type]
