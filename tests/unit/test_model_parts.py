@@ -43,7 +43,7 @@ def test_dotted_names_and_replace():
     assert m2.replace(damping=None).damping is None
     with pytest.raises(ValueError, match="no damping part"):
         Model().replace(**{"damping.ratio": 0.1})
-    with pytest.raises(ValueError, match="unknown model field 'excitation.phase'"):
+    with pytest.raises(ValueError, match=r"unknown model field 'excitation\.phase'"):
         m.replace(**{"excitation.phase": 1.0})
 
 
@@ -146,7 +146,7 @@ def test_excitations_enter_the_normal_equation_with_their_signs():
 
 def test_require_refuses_in_one_line():
     m = Model(damping=Viscous(0.1))
-    with pytest.raises(UnsupportedModelError, match="^free_period does not support damping="):
+    with pytest.raises(UnsupportedModelError, match=r"^free_period does not support damping="):
         require(m, "free_period", allowed={"damping": (None,)}, instead="use simulate")
     require(Model(), "free_period", allowed={"damping": (None,)}, instead="use simulate")
 
