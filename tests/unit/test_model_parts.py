@@ -156,3 +156,14 @@ def test_attrs_name_the_parts():
     assert attrs["damping"] == "none" and attrs["excitation"] == "BaseMotion"
     assert attrs["excitation_amplitude"] == 1e-8 and attrs["param_mu"] == 0.1
     assert np.isfinite(list(v for v in attrs.values() if isinstance(v, float))).all()
+
+
+def test_free_vibration_analysis_refuses_a_non_conservative_model():
+    from microslip.analysis.free_vibration import free_period, turning_points
+
+    assert free_period(Model(), 0.5 * Y0) == free_period(P, 0.5 * Y0)
+    for model in (Model(damping=HuntCrossley(0.01)), Model(excitation=HarmonicForce(0.1, 1e3))):
+        with pytest.raises(UnsupportedModelError, match="undamped free vibration only"):
+            free_period(model, 0.5 * Y0)
+        with pytest.raises(UnsupportedModelError, match="turning_points"):
+            turning_points(model, 0.5 * Y0)
