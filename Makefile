@@ -1,13 +1,16 @@
-# microslip: two commands on a fresh machine.
-#   make paper   creates .venv if missing and writes the paper's figures to figures/
-#   make test    creates .venv if missing and runs the test suite
+# microslip: commands on a fresh machine.
+#   make paper        creates .venv if missing and writes the paper's figures to figures/
+#   make figures-ext  creates .venv if missing and writes the extensions' figures (forced
+#                     response, v(F, f) under excitation, loss of contact) to figures/ext/
+#   make test         creates .venv if missing and runs the test suite
 PYTHON ?= python3
 VENV   ?= .venv
 BIN    := $(VENV)/bin
 STAMP  := $(VENV)/.installed
 FIGDIR ?= figures
+EXTDIR ?= $(FIGDIR)/ext
 
-.PHONY: paper test lint format bench clean env mutate
+.PHONY: paper figures-ext test lint format bench clean env mutate
 
 env: $(STAMP)
 
@@ -19,6 +22,9 @@ $(STAMP): pyproject.toml
 
 paper: $(STAMP)
 	$(BIN)/microslip figures --overwrite --out $(FIGDIR)
+
+figures-ext: $(STAMP)
+	$(BIN)/microslip figures --extensions --overwrite --out $(EXTDIR)
 
 test: $(STAMP)
 	$(BIN)/python -m pytest -q tests

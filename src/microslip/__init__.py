@@ -2,7 +2,10 @@
 
 Implements the model of Grudziński & Kostek (2005), J. Theor. Appl. Mech. 43(1):
 a slider on a power-law compliant contact that may lose contact, under a constant
-tangential force and Coulomb friction, with exact stick and located switching.
+tangential force and Coulomb friction, with exact stick and located switching; and its
+extensions as parts of a :class:`Model` (normal damping, normal excitation; see
+docs/design.md), with the forced response of the contact by shooting and
+pseudo-arclength continuation.
 
 The public names are imported on first use (PEP 562), so ``import microslip`` and the
 command line start without loading numba, xarray or dask: a Ctrl-C during start-up
@@ -20,7 +23,17 @@ __version__ = "0.1.0"
 
 # public name -> module that defines it
 _EXPORTS = {
+    "BaseMotion": "microslip.model.excitation",
+    "HarmonicForce": "microslip.model.excitation",
+    "HuntCrossley": "microslip.model.damping",
+    "Model": "microslip.model.composition",
     "Parameters": "microslip.model.parameters",
+    "PrescribedPenetration": "microslip.model.excitation",
+    "UnsupportedModelError": "microslip.model.capabilities",
+    "Viscous": "microslip.model.damping",
+    "forced_response": "microslip.analysis.forced_response",
+    "friction_curve": "microslip.analysis.friction_curve",
+    "periodic_orbit": "microslip.analysis.periodic",
     "SimulationResult": "microslip.results",
     "StickSlipCycle": "microslip.analysis.steady_state",
     "WorkLimitError": "microslip.budget",

@@ -25,6 +25,7 @@ import math
 import os
 from dataclasses import dataclass
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
@@ -213,14 +214,29 @@ def event_steps_per_period(rtol: float) -> float:
     return EVENT_SAFETY * spp
 
 
+def shortest_period(model: Any) -> float:
+    """The period [s] a step must resolve: min(T0, excitation period) for a
+    :class:`~microslip.model.composition.Model`, T0 = 1/f0 for a Parameters."""
+    params = getattr(model, "params", model)
+    period = params.natural_period
+    excitation = getattr(model, "excitation", None)
+    if excitation is not None:
+        period = min(period, excitation.period)
+    return period
+
+
 def _boundaries(
-    params: Parameters, duration: float, method: str, dt: float | None, rtol: float
+    params: Any, duration: float, method: str, dt: float | None, rtol: float
 ) -> tuple[float, float]:
-    """(steps, output boundaries) of a run: the boundaries include switching instants."""
-    periods = duration / params.natural_period
+    """(steps, output boundaries) of a run: the boundaries include switching instants.
+
+    ``params``: a Parameters or a Model; periods count in :func:`shortest_period`.
+    """
+    period = shortest_period(params)
+    periods = duration / period
     events = EVENTS_PER_PERIOD * periods
     if method == "rk4":
-        step = params.natural_period / DEFAULT_RK4_STEPS_PER_PERIOD if dt is None else dt
+        step = period / DEFAULT_RK4_STEPS_PER_PERIOD if dt is None else dt
         steps = math.ceil(duration / step)
     else:
         steps = event_steps_per_period(rtol) * periods
@@ -228,7 +244,7 @@ def _boundaries(
 
 
 def estimate_simulation(
-    params: Parameters,
+    params: Parameters | Any,
     *,
     duration: float,
     method: str,
@@ -239,6 +255,8 @@ def estimate_simulation(
 ) -> Estimate:
     """Steps, run time [s] and memory [bytes] of ``simulate`` with these (validated) inputs.
 
+    ``params``: a Parameters or a Model (with an excitation, the periods below count in
+    min(T0, excitation period), :func:`shortest_period`).
     Steps: duration/dt for "rk4"; for "event" the periods duration/T0 times the measured
     steps per period at ``rtol`` (:func:`event_steps_per_period`). Samples kept:
     ``n_t_eval`` if given, else (steps + switching instants)/``save_every``. Memory: the
@@ -247,7 +265,7 @@ def estimate_simulation(
     """
     steps, boundaries = _boundaries(params, duration, method, dt, rtol)
     samples = float(n_t_eval) if n_t_eval is not None else boundaries / save_every + 2.0
-    events = EVENTS_PER_PERIOD * duration / params.natural_period
+    events = EVENTS_PER_PERIOD * duration / shortest_period(params)
     per_step = RK4_S_PER_STEP if method == "rk4" else EVENT_S_PER_STEP
     return Estimate(
         what=f"simulate (method={method!r}, duration={duration:g} s)",
@@ -259,7 +277,7 @@ def estimate_simulation(
 
 
 def default_save_every(
-    params: Parameters,
+    params: Parameters | Any,
     *,
     duration: float,
     method: str,
@@ -270,7 +288,8 @@ def default_save_every(
     """Smallest n >= 1 such that keeping every n-th step boundary keeps at most
     ``max_samples`` samples (estimated, see :func:`estimate_simulation`).
 
-    ``duration`` [s], ``dt`` [s] (RK4; default T0/200) and ``rtol`` as for ``simulate``;
+    ``params`` a Parameters or a Model; ``duration`` [s], ``dt`` [s] (RK4; default
+    min(T0, excitation period)/200) and ``rtol`` as for ``simulate``;
     they are validated here too (``ValueError`` naming the field), since the CLI calls
     this before :func:`microslip.simulate`.
     """

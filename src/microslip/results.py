@@ -3,14 +3,15 @@
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from functools import cached_property
 from typing import Any
 
 import numpy as np
 
-from microslip.integrators import EVENT_NAMES
-from microslip.model.contact import reaction_array
+from microslip.model.composition import Model
 from microslip.model.friction import friction_force
 from microslip.model.parameters import Parameters
+from microslip.model.system import EVENT_NAMES, normal_samples
 
 STICK, SLIP, FLIGHT = 0, 1, 2
 STATE_MEANINGS = "stick slip flight"
@@ -25,14 +26,17 @@ class SimulationResult:
     t : time [s]
     y, ydot : normal position [m] (y > 0 penetration, eq. 2.3) and velocity [m/s]
     x, xdot, xddot : tangential position [m], velocity [m/s], acceleration [m/s^2]
-    R : compressive normal reaction |R| [N] (eq. 2.3)
+    N : compressive normal force N >= 0 [N] of the composed normal law (the paper's |R|,
+        eq. 2.3, with damping and excitation); ``R`` is the same array
+    delta : penetration δ = y - z(t) [m] (z the surface motion; δ = y without one)
     Ft : friction force on the slider [N], signed as in (2.5): m ẍ = F + F_t
-        (sliding: -μ|R| sgn ẋ; stick: -F, the paper's real friction force F_tr)
-    friction_limit : μ|R| [N], the potential static friction force (Fig. 5, thin lines)
-    state : 0 stick, 1 slip (in contact), 2 flight (loss of contact, y <= 0)
+        (sliding: -μN sgn ẋ; stick: -F, the paper's real friction force F_tr)
+    friction_limit : μN [N], the potential static friction force (Fig. 5, thin lines)
+    state : 0 stick, 1 slip (in contact), 2 flight (loss of contact: δ <= 0 or N_raw <= 0)
     direction : sliding direction at each sample (-1, 0 = stick, +1)
     event_t, event_kind, event_states : switching instants [s], their kinds (names in
         ``EVENT_NAMES``) and the state (y, ẏ, x, ẋ) just after each switch
+    model : the Model simulated (``Model(params)`` when not given)
     """
 
     params: Parameters
@@ -48,14 +52,36 @@ class SimulationResult:
     event_kind: np.ndarray
     event_states: np.ndarray
     settings: dict[str, Any] = field(default_factory=dict)
+    model: Model | None = None
+
+    def __post_init__(self) -> None:
+        if self.model is None:
+            object.__setattr__(self, "model", Model(self.params))
+
+    @cached_property
+    def _normal(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        # (N, N_raw, δ) from the composed normal law the integrators used.
+        c = self.model.pack(self.force)
+        t = np.ascontiguousarray(self.t, dtype=float)
+        y = np.ascontiguousarray(self.y, dtype=float)
+        ydot = np.ascontiguousarray(self.ydot, dtype=float)
+        return normal_samples(t, y, ydot, c)
+
+    @property
+    def N(self) -> np.ndarray:
+        return self._normal[0]
 
     @property
     def R(self) -> np.ndarray:
-        return reaction_array(self.params, self.y)
+        return self.N
+
+    @property
+    def delta(self) -> np.ndarray:
+        return self._normal[2]
 
     @property
     def friction_limit(self) -> np.ndarray:
-        return self.params.mu * self.R
+        return self.params.mu * self.N
 
     @property
     def Ft(self) -> np.ndarray:
@@ -68,7 +94,8 @@ class SimulationResult:
     @property
     def state(self) -> np.ndarray:
         code = np.where(self.direction != 0.0, SLIP, STICK)
-        return np.where(self.y > 0.0, code, FLIGHT).astype(np.int8)
+        contact = (self.delta > 0.0) & (self._normal[1] > 0.0)
+        return np.where(contact, code, FLIGHT).astype(np.int8)
 
     @property
     def events(self) -> list[tuple[float, str]]:
@@ -98,9 +125,11 @@ class SimulationResult:
                 "x": var(self.x, "m", "tangential displacement"),
                 "xdot": var(self.xdot, "m s-1", "tangential velocity"),
                 "xddot": var(self.xddot, "m s-2", "tangential acceleration"),
-                "R": var(self.R, "N", "compressive normal reaction |R| (eq. 2.3)"),
+                "R": var(self.R, "N", "compressive normal reaction |R| (eq. 2.3; = N)"),
+                "N": var(self.N, "N", "compressive normal force N of the composed law"),
+                "delta": var(self.delta, "m", "penetration delta = y - z (> 0 overlap)"),
                 "Ft": var(self.Ft, "N", "friction force on the slider (eq. 2.5 sign)"),
-                "friction_limit": var(self.friction_limit, "N", "friction limit mu |R|"),
+                "friction_limit": var(self.friction_limit, "N", "friction limit mu N"),
                 "state": var(
                     self.state,
                     "1",
@@ -114,7 +143,7 @@ class SimulationResult:
                 **cf_static_attributes("microslip simulation (Grudzinski & Kostek 2005 model)"),
                 "method": self.method,
                 "force_N": self.force,
-                **{f"param_{k}": v for k, v in self.params.to_dict().items()},
+                **self.model.to_attrs(),
                 **{k: v for k, v in self.settings.items() if v is not None},
             },
         )

@@ -1,4 +1,8 @@
-"""``simulate``: one trajectory of the slider, eqs. (2.2)–(2.5), with exact stick and flight."""
+"""``simulate``: one trajectory of the slider, eqs. (2.2)–(2.5), with exact stick and flight.
+
+Any :class:`~microslip.model.composition.Model` (the paper's by default): the normal
+law is the composed one of :mod:`microslip.model.normal` (damping, excitation).
+"""
 
 from __future__ import annotations
 
@@ -9,9 +13,11 @@ import numpy as np
 from microslip import budget
 from microslip import validation as check
 from microslip.integrators import integrate
-from microslip.model.coefficients import pack
+from microslip.model.composition import Model, as_model
 from microslip.model.contact import potential_energy
+from microslip.model.excitation import PrescribedPenetration
 from microslip.model.parameters import POSITION_LIMIT, Parameters
+from microslip.model.system import XDOT, YDOT, X, Y, state_array
 from microslip.results import SimulationResult
 from microslip.validation import DEFAULT_RK4_STEPS_PER_PERIOD, RK4_MAX_STEP_FRACTION
 
@@ -82,8 +88,50 @@ def _checked_initial_state(params: Parameters, initial_state) -> tuple[float, ..
     return tuple(float(v) for v in values)
 
 
+def _initial_state(model: Model, amplitude, initial_state) -> tuple[np.ndarray, float | None]:
+    """The validated initial state vector and the amplitude [m] (None if not given).
+
+    Free vibration: exactly one of ``amplitude`` / ``initial_state``. Forced: rest at
+    the static deflection y0 unless one is given (``amplitude``: rest at y0 - A).
+    Prescribed penetration: y, ẏ carry δ(0), δ̇(0) = 0; no amplitude.
+    """
+    params = model.params
+    excitation = model.excitation
+    if isinstance(excitation, PrescribedPenetration):
+        if amplitude is not None:
+            raise ValueError(
+                f"amplitude={amplitude!r} does not apply with PrescribedPenetration: the "
+                "penetration starts at delta(0) = mean + amplitude of the excitation"
+            )
+        delta0 = excitation.mean + excitation.amplitude
+        x0, xdot0 = 0.0, 0.0
+        if initial_state is not None:
+            values = check.real_array("initial_state", initial_state)
+            if values.size != 4:
+                raise ValueError(
+                    f"initial_state must be (y, ydot, x, xdot), got {values.size} values"
+                )
+            if abs(values[0] - delta0) > 1e-12 * delta0 or values[1] != 0.0:
+                raise ValueError(
+                    f"initial_state (y={values[0]!r} m, ydot={values[1]!r} m/s) must be the "
+                    f"prescribed delta(0) = {delta0!r} m, ydot = 0 with PrescribedPenetration"
+                )
+            x0, xdot0 = _checked_initial_state(params, (delta0, 0.0, values[2], values[3]))[2:]
+        return state_array(delta0, 0.0, x0, xdot0), None
+    if excitation is None and (amplitude is None) == (initial_state is None):
+        raise ValueError("give exactly one of amplitude or initial_state")
+    if amplitude is not None and initial_state is not None:
+        raise ValueError("give at most one of amplitude or initial_state")
+    if amplitude is not None:
+        amplitude = check.amplitude(params, amplitude)
+        return state_array(*initial_state_from_amplitude(params, amplitude)), amplitude
+    if initial_state is not None:
+        return state_array(*_checked_initial_state(params, initial_state)), None
+    return state_array(params.static_deflection, 0.0), None  # forced: from rest at y0
+
+
 def simulate(
-    params: Parameters | None = None,
+    model_or_params: Model | Parameters | None = None,
     *,
     force: float,
     duration: float,
@@ -101,8 +149,9 @@ def simulate(
 
     Parameters
     ----------
-    params : Parameters, optional
-        Model constants; the paper's data by default.
+    model_or_params : Model or Parameters, optional
+        The model (:class:`microslip.Model`: contact, damping, excitation) or its
+        constants alone (the paper's model); the paper's data by default.
     force : float
         Constant tangential drive F [N] (Sec. 4), |F| <= ``params.max_force`` = 1e6 m g;
         F < 0 pushes the slider towards -x (backward sliding; with an ``initial_state``
@@ -112,20 +161,24 @@ def simulate(
         ``duration``.
     amplitude : float, optional
         A = y0 - y_min [m] in [0, ``params.max_amplitude`` = 1e3 y0]: start at rest at
-        the highest point y = y0 - A (the paper's initial conditions). Give this or
-        ``initial_state``.
+        the highest point y = y0 - A (the paper's initial conditions). Without
+        excitation give this or ``initial_state``; with a harmonic force or base motion
+        both are optional (default: rest at the static deflection y0, ẏ = 0); refused
+        with a prescribed penetration (the motion starts at δ(0) = δ_m + Δ).
     initial_state : (y [m], ẏ [m/s], x [m], ẋ [m/s]), optional
         An explicit initial state instead of ``amplitude``; its normal motion must be
         no larger than that of A = 1e3 y0 (normal energy at most that of rest at
         y = y0 - 1e3 y0), |x| <= 1e6 m and |ẋ| <= ``params.max_velocity`` = 1e6 g T0
-        (x enters no force: x0 only shifts the output).
+        (x enters no force: x0 only shifts the output). With a prescribed penetration
+        y, ẏ must be δ(0), 0.
     method : {"event", "rk4"}
-        ``"event"``: adaptive Dormand–Prince 8(5,3) (DOP853) with every switching instant located
-        and the integration restarted there. ``"rk4"``: the paper's fixed-step classical
-        Runge–Kutta on the grid k·dt, with switching instants located inside the step so
-        it keeps 4th order through stick–slip and loss of contact.
+        ``"event"``: adaptive Dormand–Prince 8(5,3) (DOP853) with every switching instant
+        located and the integration restarted there. ``"rk4"``: the paper's fixed-step
+        classical Runge–Kutta on the grid k·dt, with switching instants located inside
+        the step so it keeps 4th order through stick–slip and loss of contact.
     dt : float, optional
-        RK4 step [s]; default T0/200. Must be <= T0/10 (T0 = 1/f0).
+        RK4 step [s]; default T/200 and at most T/10, T = min(T0, excitation period)
+        (T0 = 1/f0).
     rtol, atol : float, optional
         Tolerances of ``"event"`` (defaults 1e-11 and 1e-13): relative, in [1e-14, 1e-2],
         and absolute in units of the natural scales y0, y0 ω0, μ y0, μ y0 ω0, in
@@ -146,9 +199,13 @@ def simulate(
     -------
     SimulationResult
     """
-    params = Parameters() if params is None else params
-    if not isinstance(params, Parameters):
-        raise ValueError(f"params must be a microslip.Parameters, got {type(params).__name__}")
+    if not isinstance(model_or_params, (Model, Parameters, type(None))):
+        raise ValueError(
+            "model_or_params must be a microslip.Model or microslip.Parameters, got "
+            f"{type(model_or_params).__name__}"
+        )
+    model = as_model(model_or_params)
+    params = model.params
     force = check.force(params, force)
     duration = check.duration(duration, params.natural_period)
     method = check.one_of("method", method, ("event", "rk4"))
@@ -159,15 +216,10 @@ def simulate(
                 raise ValueError(f"{name}={value!r} applies to method='event' only; rk4 uses dt")
     rtol = check.tolerance("rtol", DEFAULT_RTOL if rtol is None else rtol, check.RTOL_RANGE)
     atol = check.tolerance("atol", DEFAULT_ATOL if atol is None else atol, check.ATOL_RANGE)
-    if (amplitude is None) == (initial_state is None):
-        raise ValueError("give exactly one of amplitude or initial_state")
-    if amplitude is not None:
-        amplitude = check.amplitude(params, amplitude)
-        state0 = initial_state_from_amplitude(params, amplitude)
-    else:
-        state0 = _checked_initial_state(params, initial_state)
+    state0, amplitude = _initial_state(model, amplitude, initial_state)
 
-    period = params.natural_period
+    # The step must resolve the faster of the contact vibration and the excitation.
+    period = budget.shortest_period(model)
     if method == "rk4":
         dt = period / DEFAULT_RK4_STEPS_PER_PERIOD if dt is None else dt
         dt = check.real("dt", dt, minimum=0.0, strict=True)
@@ -184,14 +236,14 @@ def simulate(
     if not isinstance(allow_large, bool):
         raise ValueError(f"allow_large must be True or False, got {allow_large!r}")
     estimate = budget.estimate_simulation(
-        params, duration=duration, method=method, dt=dt, rtol=rtol,
+        model, duration=duration, method=method, dt=dt, rtol=rtol,
         n_t_eval=None if t_eval is None else t_eval.size, save_every=save_every,
     )  # fmt: skip
     budget.check(estimate, allow_large=allow_large)
 
     raw = integrate(
         method,
-        pack(params, force),
+        model.pack(force),
         state0,
         0.0,
         duration,
@@ -213,13 +265,14 @@ def simulate(
         force=force,
         method=method,
         t=raw.t,
-        y=raw.states[:, 0],
-        ydot=raw.states[:, 1],
-        x=raw.states[:, 2],
-        xdot=raw.states[:, 3],
+        y=raw.states[:, Y],
+        ydot=raw.states[:, YDOT],
+        x=raw.states[:, X],
+        xdot=raw.states[:, XDOT],
         direction=raw.direction,
         event_t=raw.event_t,
         event_kind=raw.event_kind,
         event_states=raw.event_states,
         settings=settings,
+        model=model,
     )

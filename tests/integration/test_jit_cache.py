@@ -25,12 +25,13 @@ H = 1e-7  # RK4 step [s]; short enough that y barely moves from y0
 # One RK4 step from rest at the static deflection y0: there ÿ = g - |R(y0)|/m = 0 (2.4),
 # so ẏ stays ~0; with the reaction scaled by 2, ÿ = -g and ẏ = -g h after the step.
 PROBE = f"""
-import json, microslip
-from microslip.integrators.steppers import rk4_step
+import json, microslip, numpy as np
+from microslip.integrators.steppers import WORK_ROWS, rk4_step
 from microslip.model.coefficients import pack
 p = microslip.Parameters()
-s = rk4_step((p.static_deflection, 0.0, 0.0, 0.0), 0.0, {H!r}, 0.0, pack(p, 0.0))
-print(json.dumps({{"ydot": s[1], "g": p.g, "file": microslip.__file__,
+s, out = np.array([p.static_deflection, 0.0, 0.0, 0.0]), np.empty(4)
+rk4_step(s, 0.0, {H!r}, 0.0, pack(p, 0.0), out, np.empty((WORK_ROWS, 4)))
+print(json.dumps({{"ydot": out[1], "g": p.g, "file": microslip.__file__,
                   "hits": sum(rk4_step.stats.cache_hits.values()),
                   "misses": sum(rk4_step.stats.cache_misses.values())}}))
 """
@@ -63,9 +64,11 @@ def _scale_reaction(package: Path, factor: float) -> None:
     """Edit the compiled contact law (2.3) of the copy: |R| -> factor |R|."""
     contact = package / "model" / "contact.py"
     text = contact.read_text()
-    old = "        return c[AREA_CN] * y * y\n"
-    assert text.count(old) == 1, "the m2 = 2 branch of reaction() changed: update this test"
-    contact.write_text(text.replace(old, f"        return {factor!r} * c[AREA_CN] * y * y\n"))
+    old = "        return c[AREA_CN] * delta * delta\n"
+    assert text.count(old) == 1, "the m2 = 2 branch of elastic_force() changed: update this test"
+    contact.write_text(
+        text.replace(old, f"        return {factor!r} * c[AREA_CN] * delta * delta\n")
+    )
 
 
 def _key_dirs(files: set[Path], cache: Path) -> set[str]:

@@ -1,6 +1,9 @@
-"""Exact steady stick–slip cycle and long-time mean velocity (Fig. 7).
+"""Exact steady stick–slip cycle and long-time mean velocity (Fig. 7), for any model.
 
-See docs/model-facts.md, facts 5–6.
+See docs/model-facts.md, facts 5–6. :func:`mean_velocity` dispatches on the model's
+parts: the paper's free vibration uses the closed form below; a damped free vibration
+decays to rest (0 below μ m g); a forced contact uses the reflected process over one
+period of its periodic normal motion (:mod:`microslip.analysis.forced_sliding`).
 
 With F >= 0 the slider never moves backwards, and because m ÿ = m g - |R| (2.4) the
 friction impulse is known from the normal velocity alone:
@@ -32,7 +35,9 @@ from numba import njit, prange
 from microslip import _jit_cache  # noqa: F401  (registers the cache before any @njit)
 from microslip import validation as check
 from microslip.analysis import orbit
+from microslip.model.capabilities import require
 from microslip.model.coefficients import AREA_CN, EXPONENT, GRAVITY, MASS, MU, pack
+from microslip.model.composition import Model, as_model
 from microslip.model.contact import reaction
 from microslip.model.parameters import Parameters
 
@@ -47,6 +52,9 @@ ORBIT_STEPS = 256
 # Slots of a cycle record.
 CY_MEAN, CY_PERIOD, CY_SLIP_TIME, CY_DISTANCE, CY_PEAK, CY_RELEASE = range(6)
 CY_SIZE = 6
+
+PAPER_ONLY = {"damping": (None,), "excitation": (None,)}
+FALLBACK_PERIODS = 200  # simulated excitation periods where the response is not period-1
 
 
 @njit(cache=True)
@@ -174,11 +182,13 @@ class StickSlipCycle:
         return self.slip_distance > 0.0
 
 
-def _checked_params(params: Parameters | None) -> Parameters:
-    params = Parameters() if params is None else params
-    if not isinstance(params, Parameters):
-        raise ValueError(f"params must be a microslip.Parameters, got {type(params).__name__}")
-    return params
+def _checked_params(params: Parameters | Model | None) -> Parameters:
+    model = as_model(params)
+    require(
+        model, "stick_slip_cycle", allowed=PAPER_ONLY,
+        instead="use microslip.mean_velocity(model, force=...) for the steady mean velocity",
+    )  # fmt: skip
+    return model.params
 
 
 def _cycle_record(params: Parameters, force: float, amplitude: float) -> np.ndarray:
@@ -200,48 +210,134 @@ def _cycle_record(params: Parameters, force: float, amplitude: float) -> np.ndar
     return record
 
 
-def _warn_unbounded(params: Parameters, force: float) -> None:
+def _warn_unbounded(force: float, limit: float, what: str = "mu m g") -> None:
     warnings.warn(
-        f"force={force!r} N exceeds mu m g = {params.static_friction_force:.6g} N: the "
-        "slider accelerates without bound and has no steady mean velocity (returning inf)",
+        f"force={force!r} N exceeds {what} = {limit:.6g} N: the slider accelerates "
+        "without bound and has no steady mean velocity (returning inf)",
         RuntimeWarning,
         stacklevel=3,
     )
 
 
-def mean_velocity(params: Parameters | None = None, *, force: float, amplitude: float) -> float:
+def mean_velocity(
+    model_or_params: Model | Parameters | None = None,
+    *,
+    force: float,
+    amplitude: float | None = None,
+    initial_normal_state: tuple[float, float] | None = None,
+) -> float:
     """Long-time mean sliding velocity v [m/s] (Fig. 7), exact steady state.
 
     Parameters
     ----------
-    params : Parameters, optional
-        Model constants (paper's data by default).
+    model_or_params : Model or Parameters, optional
+        The model (the paper's data and parts by default). Parts supported: the
+        paper's free vibration; damped free vibration (it decays to rest, so the
+        long-time mean is 0 for F < μ m g and unbounded above); any normal excitation
+        (the reflected process over one period of the stable periodic normal motion,
+        docs/model-facts.md and docs/design.md, sliding on a forced contact).
     force : float
         Constant tangential force F [N], 0 <= F <= 1e6 m g (``params.max_force``).
-    amplitude : float
-        Normal vibration amplitude A = y0 - y_min [m], 0 <= A <= 1e3 y0
-        (``params.max_amplitude``).
+    amplitude : float, optional
+        Free vibration only (required for the paper's model): amplitude
+        A = y0 - y_min [m] at the start, 0 <= A <= 1e3 y0. Refused for a forced model.
+    initial_normal_state : (y [m], ẏ [m/s]), optional
+        Forced models only: the normal state at t = 0 whose steady response is used
+        (where several stable periodic responses coexist); default rest at y0.
 
     Returns
     -------
     float
-        0.0 exactly when F <= μ S c_n max(y0 - A, 0)^m2 (the slider never moves);
-        ``inf`` with a ``RuntimeWarning`` when F > μ m g (no steady state).
+        0.0 when the slider never moves (F <= μ min N); ``inf`` with a
+        ``RuntimeWarning`` when F > μ m g (no steady state; for a prescribed
+        penetration the limit is μ times the mean normal force). Where the forced
+        response reached is not period-1 the value is a time average of a simulation
+        (``RuntimeWarning`` says so).
     """
-    params = _checked_params(params)
-    record = _cycle_record(params, force, amplitude)
-    if np.isinf(record[CY_MEAN]):
-        _warn_unbounded(params, force)
-    return float(record[CY_MEAN])
+    model = as_model(model_or_params)
+    if model.excitation is None:
+        if initial_normal_state is not None:
+            raise ValueError(
+                "initial_normal_state applies to a model with a normal excitation; the free "
+                "vibration starts at rest at y0 - amplitude"
+            )
+        if model.is_paper:
+            if amplitude is None:
+                raise ValueError("amplitude [m] is required for the free normal vibration")
+            record = _cycle_record(model.params, force, amplitude)
+            if np.isinf(record[CY_MEAN]):
+                _warn_unbounded(force, model.params.static_friction_force)
+            return float(record[CY_MEAN])
+        return _damped_free(model, force, amplitude)
+    if amplitude is not None:
+        raise ValueError(
+            f"amplitude={amplitude!r} applies to the free vibration; this model's normal "
+            "motion is set by its excitation"
+        )
+    force = check.force(model.params, force, nonnegative=True)
+    from microslip.analysis.forced_sliding import mean_velocities
+    from microslip.analysis.periodic import NotPeriodOneError
+    from microslip.analysis.sliding_tables import model_sliding_table
+
+    try:
+        table = model_sliding_table(model, initial_normal_state)
+    except NotPeriodOneError as error:
+        return _time_average(model, force, initial_normal_state, str(error))
+    value = float(mean_velocities(table, model.params.mu, np.array([force]))[0])
+    if np.isinf(value):
+        _warn_unbounded(force, model.params.mu * table.mean_normal_force, "mu N_mean")
+    return value
+
+
+def _damped_free(model: Model, force: float, amplitude: float | None) -> float:
+    """The damped free vibration decays to rest at y0, where N = m g."""
+    params = model.params
+    force = check.force(params, force, nonnegative=True)
+    if amplitude is not None:
+        amplitude = check.amplitude(params, amplitude)
+    limit = params.static_friction_force
+    if force > limit:
+        _warn_unbounded(force, limit)
+        return math.inf
+    if force == limit and amplitude:
+        # G stays bounded: the slider keeps the speed μ max(-ẏ) it had at the end of
+        # the transient, which a closed form cannot give.
+        raise ValueError(
+            f"force={force!r} N equals mu m g on a damped free vibration: the long-time "
+            "speed depends on the transient; use microslip.simulate"
+        )
+    return 0.0
+
+
+def _time_average(model: Model, force: float, initial_state, reason: str) -> float:
+    """x slope of a simulation over the second half of 200 excitation periods."""
+    from microslip.simulation import simulate
+
+    warnings.warn(
+        f"{reason}; mean_velocity falls back to the time average of a simulation over "
+        f"{FALLBACK_PERIODS} excitation periods (second half)",
+        RuntimeWarning,
+        stacklevel=3,
+    )
+    period = model.excitation.period
+    duration = FALLBACK_PERIODS * period
+    start = 0.5 * duration
+    state = None if initial_state is None else (initial_state[0], initial_state[1], 0.0, 0.0)
+    result = simulate(
+        model, force=force, duration=duration, initial_state=state,
+        t_eval=np.array([start, duration]),
+    )  # fmt: skip
+    return float((result.x[-1] - result.x[0]) / (result.t[-1] - result.t[0]))
 
 
 def stick_slip_cycle(
-    params: Parameters | None = None, *, force: float, amplitude: float
+    params: Parameters | Model | None = None, *, force: float, amplitude: float
 ) -> StickSlipCycle:
     """The steady stick–slip cycle at force F [N] and amplitude A [m].
 
-    Inputs as for :func:`mean_velocity`. Raises ``ValueError`` when F > μ m g: the
-    slider then never sticks again.
+    The paper's model only (other parts: :class:`UnsupportedModelError`). Inputs as for
+    :func:`mean_velocity`. Raises ``ValueError`` when F > μ m g: the slider then never
+    sticks again.
     """
     params = _checked_params(params)
     record = _cycle_record(params, force, amplitude)

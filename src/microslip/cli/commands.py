@@ -23,6 +23,8 @@ from microslip.cli.interrupts import RUN, uninterruptible
 from microslip.cli.options import CliError, Options, gather, refuse_underscores
 
 ALL_FIGURES = ("fig2", "fig3", "fig4", "fig5", "fig6", "fig7")
+# The extensions' figures (plotting/extensions.py; ``figures --extensions``)
+EXTENSION_FIGURES = ("forced_response", "forced_velocity_map", "contact_loss")
 
 
 def _note(message: str) -> None:
@@ -65,14 +67,42 @@ def _check_method(opts: Options, choices: tuple[str, ...], default: str) -> str:
 # -- info -------------------------------------------------------------------------------
 def cmd_info(args: argparse.Namespace) -> int:
     opts = gather(args, "info")
+    model = opts.model()
     table = opts.params.describe()
+    parts = _part_table(model)
     if opts.get("json", False):
-        print(json.dumps(table, indent=2))
+        print(json.dumps({**table, **parts}, indent=2))
         return 0
     print("microslip model (Grudzinski & Kostek 2005)")
-    for name, entry in table.items():
+    if not model.is_paper:
+        print(f"  parts: {model.describe()}")
+    for name, entry in {**table, **parts}.items():
         print(f"  {name:22s} {entry['value']:<14.6g} {entry['unit']:12s} {entry['description']}")
     return 0
+
+
+def _part_table(model) -> dict[str, dict]:
+    """The numeric fields of the model's parts, by dotted name, like Parameters.describe;
+    with damping also its coefficient c [N s/m]."""
+    from microslip.model.damping import damping_coefficient
+
+    out: dict[str, dict] = {}
+    for slot, part in model.parts().items():
+        if part is None:
+            continue
+        for name in part.field_names():
+            out[f"{slot}.{name}"] = {
+                "value": getattr(part, name),
+                "unit": part.field_unit(name),
+                "description": f"{type(part).__name__}: {part.field_description(name)}",
+            }
+    if model.damping is not None:
+        out["damping.coefficient"] = {
+            "value": damping_coefficient(model.params, model.damping.ratio),
+            "unit": "N s m-1",
+            "description": "damping coefficient c = 2 zeta sqrt(K_n m)",
+        }
+    return out
 
 
 # -- simulate ---------------------------------------------------------------------------
@@ -103,6 +133,7 @@ def cmd_simulate(args: argparse.Namespace) -> int:
 
     opts = gather(args, "simulate")
     params = opts.params
+    model = opts.model()  # every part checked before anything runs
     for required in ("force", "duration"):
         if required not in opts:
             raise CliError(f"--{required} is required (flag or [simulate] in --config)")
@@ -126,8 +157,8 @@ def cmd_simulate(args: argparse.Namespace) -> int:
     if out is not None and plot is not None and _same_file(out, plot):
         raise CliError(f"{opts.flag('out')} and {opts.flag('plot')} name the same file")
     initial_state = _initial_state(opts)
-    if "amplitude" not in opts and initial_state is None:
-        raise CliError("give --amplitude or --initial-state")
+    if "amplitude" not in opts and initial_state is None and model.excitation is None:
+        raise CliError("give --amplitude or --initial-state (a forced model starts from rest)")
     duration = opts["duration"]
     t_eval = None
     save_every = opts.get("save_every", 1)
@@ -151,7 +182,7 @@ def cmd_simulate(args: argparse.Namespace) -> int:
         thinned = save_every > 1
     started = time.perf_counter()
     result = ms.simulate(
-        params,
+        model,
         force=opts["force"],
         duration=duration,
         amplitude=opts.get("amplitude"),
@@ -213,19 +244,23 @@ def cmd_figures(args: argparse.Namespace) -> int:
     from microslip.plotting.figures import check_drawable
 
     opts = gather(args, "figures")
+    extensions = bool(opts.get("extensions", False))
+    known = EXTENSION_FIGURES if extensions else ALL_FIGURES
     only = opts.get("only")
-    names = ALL_FIGURES if only is None else tuple(n.strip() for n in only.split(","))
+    names = known if only is None else tuple(n.strip() for n in only.split(","))
     for name in names:
-        if name not in ALL_FIGURES:
+        if name not in known:
+            which = " of --extensions" if extensions else ""
             raise CliError(
-                f"{opts.flag('only')}: unknown figure {name!r}; known: {', '.join(ALL_FIGURES)}"
+                f"{opts.flag('only')}: unknown figure {name!r}{which}; known: {', '.join(known)}"
             )
     dpi = opts.get("dpi", 150)
     if not 10 <= dpi <= 2400:
         raise CliError(f"{opts.flag('dpi')} must be an integer in [10, 2400], got {dpi!r}")
     check_drawable(opts.params, names)  # μ = 0 and Figs. 4–7: refused before computing
     overwrite = bool(opts.get("overwrite", False))
-    out_dir = _output_path(opts, "out", args.config) if "out" in opts else Path("figures")
+    default_dir = Path("figures", "ext") if extensions else Path("figures")
+    out_dir = _output_path(opts, "out", args.config) if "out" in opts else default_dir
     if "\\" in str(out_dir.absolute()):  # HDF5 cannot create figN.nc there
         raise OutputError(
             f"--out {str(out_dir)!r}: NetCDF files cannot be created under a path with a "

@@ -1,8 +1,11 @@
-"""The ``microslip`` command: info, simulate, figures, map and sweep.
+"""The ``microslip`` command: info, simulate, response, figures, map and sweep.
 
 Every command takes the model's parameters as flags (one per Parameters field, SI
-units) or from a TOML file (``--config``; flags win). Outputs are written atomically
-and an existing output is replaced only with ``--overwrite``.
+units) or from a TOML file (``--config``; flags win); every command but ``figures`` also
+takes the model's parts (``--damping``, ``--excitation`` and their fields, or the
+``[damping]`` and ``[excitation]`` tables; see :mod:`microslip.cli.model_options`).
+Outputs are written atomically and an existing output is replaced only with
+``--overwrite``.
 
 Exit status: 0 success; 2 any failure (bad input, refused output, full disk, a busy
 output, an unexpected internal error), always as one line on standard error, never a
@@ -21,9 +24,17 @@ import signal
 import sys
 import warnings
 
-from microslip.cli.commands import ALL_FIGURES, cmd_figures, cmd_info, cmd_simulate
+from microslip.cli.commands import (
+    ALL_FIGURES,
+    EXTENSION_FIGURES,
+    cmd_figures,
+    cmd_info,
+    cmd_simulate,
+)
 from microslip.cli.interrupts import RUN, Terminated, handling_signals, interrupt_for
+from microslip.cli.model_options import add_part_options
 from microslip.cli.options import CliError, finite, integer, path_text, real
+from microslip.cli.response_command import cmd_response
 from microslip.cli.sweep_command import cmd_sweep
 from microslip.metadata import running
 
@@ -99,13 +110,18 @@ def _is_number(text: str) -> bool:
 
 
 # -- parser -----------------------------------------------------------------------------
-def _add_model_options(parser: argparse.ArgumentParser) -> None:
+def _add_model_options(parser: argparse.ArgumentParser, parts: bool = True) -> None:
     group = parser.add_argument_group("model parameters (SI; default: the paper's data)")
     for name, text in _PARAM_HELP.items():
         flag = f"--{name.replace('_', '-')}"
         # real, not finite(): Parameters names the field, its unit and the rule broken
         group.add_argument(flag, dest=name, type=real, help=text)
-    parser.add_argument("--config", type=path_text, help="TOML file with [parameters] and options")
+    if parts:
+        add_part_options(parser)
+        tables = "[parameters], [damping], [excitation] and options"
+    else:
+        tables = "[parameters] and options"
+    parser.add_argument("--config", type=path_text, help=f"TOML file with {tables}")
 
 
 def _add_output_options(parser: argparse.ArgumentParser, large: bool = True) -> None:
@@ -134,7 +150,12 @@ def _add_simulate(sub) -> None:
     sim = sub.add_parser("simulate", help="simulate one trajectory")
     sim.add_argument("--force", type=finite, help="tangential force F [N] (< 0 pushes towards -x)")
     start = sim.add_mutually_exclusive_group()
-    start.add_argument("--amplitude", type=finite, help="A = y0 - y_min [m]")
+    start.add_argument(
+        "--amplitude",
+        type=finite,
+        help="A = y0 - y_min [m] (free vibration: required unless --initial-state; "
+        "forced: default from rest at y0)",
+    )
     start.add_argument(
         "--initial-state", dest="initial_state", help="y,ydot,x,xdot [m, m/s, m, m/s]"
     )
@@ -183,6 +204,34 @@ def _add_sweeps(sub) -> None:
         p.set_defaults(handler=cmd_sweep)
 
 
+def _add_response(sub) -> None:
+    resp = sub.add_parser(
+        "response",
+        help="forced-response curve of the normal motion (continuation, stability, folds)",
+        description="Periodic orbits of the forced normal motion, continued from the orbit "
+        "reached from rest at the first value to the second, through folds; Floquet "
+        "stability, folds, period doubling and loss of contact. Needs --excitation.",
+    )
+    what = resp.add_mutually_exclusive_group()
+    what.add_argument(
+        "--frequencies", help="continue in excitation frequency F1:F2 [Hz] (from F1 to F2)"
+    )
+    what.add_argument(
+        "--amplitudes",
+        help="continue in excitation amplitude A1:A2 [N for harmonic-force, else m]",
+    )
+    resp.add_argument(
+        "--max-points", dest="max_points", type=integer, help="at most N branch points"
+    )
+    resp.add_argument("--out", help="write the branch (.nc)")
+    resp.add_argument(
+        "--plot", help="draw the curve (.png/.pdf/.svg): stable solid, unstable dashed"
+    )
+    _add_output_options(resp, large=False)
+    _add_model_options(resp)
+    resp.set_defaults(handler=cmd_response)
+
+
 def build_parser() -> argparse.ArgumentParser:
     parser = _Parser(
         prog="microslip",
@@ -204,15 +253,30 @@ def build_parser() -> argparse.ArgumentParser:
 
     _add_simulate(sub)
 
-    figs = sub.add_parser("figures", help="reproduce the paper's Figs. 2-7")
-    figs.add_argument("--out", help="output directory (default: figures)")
-    figs.add_argument("--only", help=f"comma-separated subset of {','.join(ALL_FIGURES)}")
+    figs = sub.add_parser(
+        "figures",
+        help="reproduce the paper's Figs. 2-7 (--extensions: the figures of the extensions)",
+    )
+    figs.add_argument("--out", help="output directory (default: figures, or figures/ext)")
+    figs.add_argument(
+        "--only",
+        help=f"comma-separated subset of {','.join(ALL_FIGURES)} "
+        f"(with --extensions: of {','.join(EXTENSION_FIGURES)})",
+    )
     figs.add_argument("--dpi", type=integer, help="PNG resolution (default 150)")
+    _flag(
+        figs,
+        "--extensions",
+        help="draw the extensions' figures instead: forced frequency response (several "
+        "forcing levels, linear limit), v(F, f) map under a harmonic force, loss of contact "
+        "in time (damping and excitation are fixed by each figure)",
+    )
     _flag(figs, "--quiet", help="no progress messages")
     _add_output_options(figs, large=False)
-    _add_model_options(figs)
+    _add_model_options(figs, parts=False)
     figs.set_defaults(handler=cmd_figures)
 
+    _add_response(sub)
     _add_sweeps(sub)
     return parser
 

@@ -21,7 +21,8 @@ class CliError(ValueError):
 
 
 # Kinds: "float" (finite real), "int", "str", "bool", "values" (a range string, a number or
-# a list of numbers), "params" (NAME=RANGE strings), "state" (four numbers).
+# a list of numbers), "params" (NAME=RANGE strings), "state" (four numbers), "pair" (a
+# string "START:END" or a list of two numbers).
 SIMULATE = {
     "force": "float", "amplitude": "float", "initial_state": "state", "duration": "float",
     "method": "str", "dt": "float", "rtol": "float", "atol": "float", "samples": "int",
@@ -33,9 +34,21 @@ MAP = {
     "quiet": "bool", "overwrite": "bool", "allow_large": "bool",
 }  # fmt: skip
 SWEEP = {**MAP, "param": "params"}
-FIGURES = {"out": "str", "only": "str", "dpi": "int", "quiet": "bool", "overwrite": "bool"}
+FIGURES = {
+    "out": "str", "only": "str", "dpi": "int", "quiet": "bool", "overwrite": "bool",
+    "extensions": "bool",
+}  # fmt: skip
 INFO = {"json": "bool"}
-SCHEMAS = {"info": INFO, "simulate": SIMULATE, "figures": FIGURES, "map": MAP, "sweep": SWEEP}
+RESPONSE = {
+    "frequencies": "pair", "amplitudes": "pair", "max_points": "int", "out": "str",
+    "plot": "str", "overwrite": "bool",
+}  # fmt: skip
+SCHEMAS = {
+    "info": INFO, "simulate": SIMULATE, "figures": FIGURES, "map": MAP, "sweep": SWEEP,
+    "response": RESPONSE,
+}  # fmt: skip
+#: Commands that take the model's parts (--damping, --excitation, [damping], ...).
+PART_COMMANDS = ("info", "simulate", "map", "sweep", "response")
 
 
 @dataclass
@@ -46,6 +59,21 @@ class Options:
     values: dict[str, Any] = field(default_factory=dict)
     origin: dict[str, str] = field(default_factory=dict)
     param_origin: dict[str, str] = field(default_factory=dict)  # Parameters field -> source
+    parts: dict[str, Any] = field(default_factory=dict)  # slot -> model_options.PartChoice
+
+    def model(self, provided: dict[str, tuple[float, str]] | None = None) -> Any:
+        """The :class:`~microslip.model.composition.Model` of the parameters and parts;
+        ``provided``: fields the command sets itself (see ``model_options.build_model``)."""
+        from microslip.cli.model_options import build_model
+
+        return build_model(self.params, self.parts, provided)
+
+    def part_origin(self) -> dict[str, str]:
+        """Where each given part field came from, by dotted name."""
+        out: dict[str, str] = {}
+        for choice in self.parts.values():
+            out.update(choice.origins())
+        return out
 
     def __contains__(self, name: str) -> bool:
         return name in self.values
@@ -127,6 +155,17 @@ def _typed(kind: str, key: str, value: Any, where: str) -> Any:
         ):
             return ",".join(repr(float(v)) for v in value)
         raise fail("four finite numbers y,ydot,x,xdot (a list or a string)")
+    if kind == "pair":
+        if isinstance(value, str):
+            return value
+        if (
+            isinstance(value, list)
+            and len(value) == 2
+            and all(isinstance(v, (int, float)) and not isinstance(v, bool) for v in value)
+            and all(_fits_float(v) for v in value)
+        ):
+            return ":".join(repr(float(v)) for v in value)
+        raise fail('a string "START:END" or a list of two finite numbers')
     raise AssertionError(kind)  # pragma: no cover - the schemas above use known kinds
 
 
@@ -136,12 +175,20 @@ def gather(args: argparse.Namespace, command: str) -> Options:
     A list option (``param``) given both in the file and as flags is refused: the
     flags would silently drop the file's entries.
     """
-    from microslip.io.config import command_options, load_config, parameters_from_config
+    from microslip.cli.model_options import gather_parts, refuse_parts
+    from microslip.io.config import (
+        command_options,
+        load_config,
+        parameters_from_config,
+        parts_from_config,
+    )
     from microslip.model.parameters import Parameters
 
     schema = SCHEMAS[command]
     param_values: dict[str, Any] = {}
     opts = Options(params=None)
+    data: dict[str, Any] | None = None
+    source = None
     if args.config is not None:
         data = load_config(args.config)
         source = str(args.config)
@@ -169,6 +216,11 @@ def gather(args: argparse.Namespace, command: str) -> Options:
         opts.values[name] = value
         opts.origin[name] = "--" + name.replace("_", "-")
     opts.params = Parameters(**param_values)
+    if command in PART_COMMANDS:
+        tables = parts_from_config(data, str(source)) if data is not None else {}
+        opts.parts = gather_parts(args, tables, source)
+    else:
+        refuse_parts(args, data, str(source), command, "draws the paper's model, without parts")
     return opts
 
 

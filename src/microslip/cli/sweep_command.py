@@ -31,10 +31,11 @@ def _sweep_axes(opts: Options) -> dict[str, np.ndarray]:
             raise CliError(f"{opts.flag('param')}: {name!r} given twice")
         if name in ("force", "amplitude"):
             raise CliError(f"{opts.flag('param')}: give {name} with --{name}, not --param")
-        if name in opts.param_origin:
+        given = {**opts.param_origin, **opts.part_origin()}
+        if name in given:
             raise CliError(
                 f"{opts.flag('param')} {name}=... cannot be combined with "
-                f"{opts.param_origin[name]}: both set {name}"
+                f"{given[name]}: both set {name}"
             )
         refuse_underscores(f"--param {name}", values)
         axes[name] = parse_values(f"--param {name}", values)
@@ -69,6 +70,18 @@ def cmd_sweep(args: argparse.Namespace) -> int:
 
     opts = gather(args, args.command)
     params = opts.params
+    axes = _sweep_axes(opts)
+    # A swept part field needs no flag of its own: the model holds its first value.
+    model = opts.model(
+        {name: (float(values[0]), f"{opts.flag('param')} {name}=...")
+         for name, values in axes.items() if "." in name}
+    )  # fmt: skip
+    forced = model.excitation is not None
+    if forced and args.command == "map":
+        raise CliError(
+            "map draws v(F, A) of the free normal vibration; with an excitation use "
+            "`microslip sweep --param excitation.frequency=... --force ...`"
+        )
     method = _check_method(opts, ("steady", "time"), "steady")
     if method == "steady":
         for name in ("duration", "dt"):
@@ -76,15 +89,18 @@ def cmd_sweep(args: argparse.Namespace) -> int:
     opts.refuse_together(
         "workers", "scheduler", "--workers starts a local cluster, --scheduler uses a running one"
     )
-    for required in ("force", "amplitude", "out"):
-        if required not in opts:
-            raise CliError(f"--{required} is required (flag or [{args.command}] in --config)")
+    # A forced model starts from rest: the amplitude of a free vibration is optional.
+    required = ("force", "out") if forced else ("force", "amplitude", "out")
+    for name in required:
+        if name not in opts:
+            raise CliError(f"--{name} is required (flag or [{args.command}] in --config)")
     _check_scheduler(opts)
     forces = parse_values(opts.flag("force"), refuse_underscores(opts.flag("force"), opts["force"]))
-    amplitudes = parse_values(
-        opts.flag("amplitude"), refuse_underscores(opts.flag("amplitude"), opts["amplitude"])
-    )
-    axes = _sweep_axes(opts)
+    amplitudes = None
+    if "amplitude" in opts:
+        amplitudes = parse_values(
+            opts.flag("amplitude"), refuse_underscores(opts.flag("amplitude"), opts["amplitude"])
+        )
     overwrite = bool(opts.get("overwrite", False))
     out = check_writable(
         _output_path(opts, "out", args.config), (".nc", ".zarr"), overwrite=overwrite
@@ -101,7 +117,9 @@ def cmd_sweep(args: argparse.Namespace) -> int:
 
         sizes = {name: len(values) for name, values in axes.items()}
         try:
-            sweep_plot_kind({**sizes, "force": len(forces), "amplitude": len(amplitudes)})
+            if amplitudes is not None:
+                sizes["amplitude"] = len(amplitudes)
+            sweep_plot_kind({**sizes, "force": len(forces)})
         except ValueError as error:
             raise CliError(str(error)) from None
     workers = opts.get("workers")
@@ -116,7 +134,7 @@ def cmd_sweep(args: argparse.Namespace) -> int:
     if chunk is not None and chunk < 1:
         raise CliError(f"{opts.flag('chunk')} must be an integer >= 1, got {chunk!r}")
     spec = SweepSpec.build(
-        params, axes, forces, amplitudes,
+        params if model.is_paper else model, axes, forces, amplitudes,
         method=method, duration=opts.get("duration", 0.05), dt=opts.get("dt"),
         amplitude_chunk=chunk,
     )  # fmt: skip

@@ -1,4 +1,7 @@
-"""Python driver around the compiled stick–slip loop: buffers, streaming, status."""
+"""Python driver around the compiled switching loop: buffers, streaming, status.
+
+The state is a float64 vector of the model's size (:mod:`microslip.model.system`).
+"""
 
 from __future__ import annotations
 
@@ -8,7 +11,7 @@ import numpy as np
 
 from microslip.integrators import kernel
 from microslip.integrators.methods import DOP853, RK4
-from microslip.integrators.switching import EVENT_NAMES, initial_direction
+from microslip.model.system import EVENT_NAMES, initial_mode
 
 METHODS = {"rk4": RK4, "event": DOP853}
 MAX_STEPS_PER_CALL = 1 << 20  # steps of one kernel call when every n-th step is kept
@@ -19,11 +22,11 @@ class RawTrajectory:
     """Samples and switching instants straight from the kernel (SI units)."""
 
     t: np.ndarray  # [s]
-    states: np.ndarray  # (n, 4): y [m], ẏ [m/s], x [m], ẋ [m/s]
-    direction: np.ndarray  # sliding direction at each sample: -1, 0 (stick), +1
+    states: np.ndarray  # (n, n_state), the model's state layout
+    direction: np.ndarray  # the model's mode at each sample (today sgn ẋ: -1, 0 stick, +1)
     event_t: np.ndarray  # [s]
     event_kind: np.ndarray  # codes of EVENT_NAMES
-    event_states: np.ndarray  # (n_events, 4), state just after each switch
+    event_states: np.ndarray  # (n_events, n_state), state just after each switch
     n_steps: int
     n_rejected: int
 
@@ -31,7 +34,7 @@ class RawTrajectory:
 def integrate(
     method: str,
     coeffs: np.ndarray,
-    state0: tuple[float, float, float, float],
+    state0: np.ndarray,
     t0: float,
     t_end: float,
     *,
@@ -44,7 +47,8 @@ def integrate(
     save_every: int = 1,
     buffer_size: int = 1 << 16,
 ) -> RawTrajectory:
-    """Integrate (2.4)–(2.5) from ``state0`` at ``t0`` to ``t_end`` with located switching.
+    """Integrate the model of ``coeffs`` from ``state0`` (a state vector of the model's
+    size) at ``t0`` to ``t_end`` [s] with located switching.
 
     Inputs are assumed validated (see :func:`microslip.simulate`).
     """
@@ -53,14 +57,15 @@ def integrate(
         # Ctrl-C reaches Python only between kernel calls: a call ends when its output
         # buffer is full, so bound its steps (~1e6, well under a second) by the buffer.
         buffer_size = int(min(buffer_size, max(64, MAX_STEPS_PER_CALL // save_every)))
-    atol = np.zeros(4) if atol is None else np.asarray(atol, dtype=float)
+    s0 = np.array(state0, dtype=np.float64).ravel()
+    n_state = s0.size
+    atol = np.zeros(n_state) if atol is None else np.asarray(atol, dtype=float)
     t_eval = np.empty(0) if t_eval is None else np.asarray(t_eval, dtype=float)
-    s0 = tuple(float(v) for v in state0)
-    direction0 = initial_direction(s0, t0, coeffs)
-    carry = np.zeros(kernel.CARRY_SIZE)
+    direction0 = initial_mode(t0, s0, coeffs)
+    carry = np.zeros(kernel.carry_size(n_state))
     carry[kernel.C_T] = t0
-    carry[kernel.C_Y : kernel.C_XD + 1] = s0
-    carry[kernel.C_DIR] = direction0
+    carry[kernel.C_STATE :] = s0
+    carry[kernel.C_MODE] = direction0
     carry[kernel.C_H] = h_initial
     carry[kernel.C_K] = 1
     carry[kernel.C_T0] = t0
@@ -73,11 +78,11 @@ def integrate(
         d_parts.append(np.array([direction0]))
     while True:
         out_t = np.empty(buffer_size)
-        out_s = np.empty((buffer_size, 4))
+        out_s = np.empty((buffer_size, n_state))
         out_d = np.empty(buffer_size)
         ev_t = np.empty(buffer_size // 4)
         ev_k = np.empty(buffer_size // 4, dtype=np.int64)
-        ev_s = np.empty((buffer_size // 4, 4))
+        ev_s = np.empty((buffer_size // 4, n_state))
         n, n_ev, status = kernel.integrate_chunk(
             code, carry, t_end, dt, h_max, rtol, atol, coeffs, t_eval, save_every,
             out_t, out_s, out_d, ev_t, ev_k, ev_s,
@@ -92,7 +97,8 @@ def integrate(
             break
         if status == kernel.STALLED:
             raise RuntimeError(
-                f"switching stalled at t={float(carry[kernel.C_T])!r} s: more than 64 switches "
+                f"switching stalled at t={float(carry[kernel.C_T])!r} s: more than "
+                f"{kernel.MAX_SWITCHES_PER_STEP} switches "
                 "without progress (inconsistent friction law?)"
             )
         if status == kernel.STEP_UNDERFLOW:

@@ -1,23 +1,26 @@
-"""The explicit stick–slip loop: trial step, locate the first switch, switch, go on.
+"""The explicit switching loop: trial step, locate the first switch, switch, go on.
 
 One compiled loop serves every method: fixed-step RK4 on the grid t0 + k·dt, and the
 adaptive Dormand–Prince pairs. It fills caller-owned output buffers and returns when
-they are full, so the Python driver can stream a long run in bounded memory.
+they are full, so the Python driver can stream a long run in bounded memory. The state
+is an array of any size; the model (:mod:`microslip.model.system`) gives it meaning.
 """
 
 from __future__ import annotations
 
+import numpy as np
 from numba import njit
+from numba.np.unsafe.ndarray import to_fixed_tuple
 
 from microslip import _jit_cache  # noqa: F401  (registers the cache before any @njit)
-from microslip.integrators.methods import CONTROLLER_EXPONENT, RK4, advance
-from microslip.integrators.switching import apply_switch, first_switch
+from microslip.integrators.methods import CONTROLLER_EXPONENT, RK4, WORK_ROWS, advance
+from microslip.integrators.switching import first_switch
+from microslip.model.coefficients import SIZE
+from microslip.model.system import NO_EVENT, apply_switch
 
-# Slots of the carry vector that holds the loop state between calls.
-C_T, C_Y, C_YD, C_X, C_XD, C_DIR, C_H, C_K, C_BOUNDARY, C_TEVAL, C_T0, C_STEPS, C_REJECTS = range(
-    13
-)
-CARRY_SIZE = 13
+# Slots of the carry vector that holds the loop state between calls; the state follows.
+C_T, C_MODE, C_H, C_K, C_BOUNDARY, C_TEVAL, C_T0, C_STEPS, C_REJECTS = range(9)
+C_STATE = 9
 
 # Return status.
 DONE = 0
@@ -26,38 +29,87 @@ EVENTS_FULL = 2
 STALLED = 3
 STEP_UNDERFLOW = 4
 
-_MAX_SWITCHES_PER_STEP = 64
+MAX_SWITCHES_PER_STEP = 64
+
+# Rows of the scratch array of :func:`piece_end` and its callers.
+S_TRIAL, S_EXTREMUM = 0, 1
+SCRATCH_ROWS = 2
+
+
+def carry_size(n_state: int) -> int:
+    """Length of the carry vector for a state of ``n_state`` values."""
+    return C_STATE + n_state
 
 
 @njit(cache=True, inline="always")
-def _write(out_t, out_s, out_dir, n, t, s, direction):
+def as_tuple(c):
+    """The coefficient vector as a tuple of SIZE floats (laws index it as an array)."""
+    return to_fixed_tuple(c, SIZE)
+
+
+@njit(cache=True, inline="always")
+def copy_state(src, dst):
+    for i in range(src.shape[0]):
+        dst[i] = src[i]
+
+
+@njit(cache=True)
+def piece_end(method, s, s1, t, h, mode, c, rtol, atol, piece, scratch, work):
+    """The first switch in the trial step (t, s) -> (t + h, s1) and the state there.
+
+    Writes into ``piece`` the state at the end of the piece: at the switch, or ``s1``
+    when the step holds none. Returns (θ, which) as
+    :func:`~microslip.integrators.switching.first_switch`. The one piece of loop body
+    shared by :func:`integrate_chunk` and the batched kernel.
+    """
+    theta, which = first_switch(
+        method, s, s1, t, h, mode, c, rtol, atol, scratch[S_TRIAL], scratch[S_EXTREMUM], work
+    )
+    if which >= 0 and theta < 1.0:
+        advance(method, s, t, theta * h, mode, c, rtol, atol, piece, work)
+    else:
+        copy_state(s1, piece)
+    return theta, which
+
+
+@njit(cache=True, inline="always")
+def _write(out_t, out_s, out_mode, n, t, s, mode):
     out_t[n] = t
-    out_s[n, 0] = s[0]
-    out_s[n, 1] = s[1]
-    out_s[n, 2] = s[2]
-    out_s[n, 3] = s[3]
-    out_dir[n] = direction
+    for j in range(s.shape[0]):
+        out_s[n, j] = s[j]
+    out_mode[n] = mode
     return n + 1
 
 
 @njit(cache=True)
 def integrate_chunk(
     method, carry, t_end, dt, h_max, rtol, atol, c, t_eval, save_every,
-    out_t, out_s, out_dir, ev_t, ev_kind, ev_s,
+    out_t, out_s, out_mode, ev_t, ev_kind, ev_s,
 ):  # fmt: skip
     """Advance the carried state towards ``t_end`` [s]; returns (n_out, n_events, status).
 
     Outputs: at each requested time in ``t_eval`` if it is non-empty, else at every
     ``save_every``-th step boundary (a boundary is a step end or a switching instant)
-    and at ``t_end``. Every switching instant is recorded in the event buffers.
+    and at ``t_end``. Every switching instant that changes the mode or the contact is
+    recorded in the event buffers.
     """
+    # The coefficients as a tuple: passed by value through the inlined laws, where an
+    # array would be reference-counted at every call (atomic operations per law).
+    c = as_tuple(c)
+    n_state = carry.shape[0] - C_STATE
     cap = out_t.shape[0]
     ev_cap = ev_t.shape[0]
     n_out = 0
     n_ev = 0
+    # Scratch for the whole call: no allocation per step.
+    s = carry[C_STATE:].copy()
+    s1 = np.empty(n_state)
+    piece = np.empty(n_state)
+    s_eval = np.empty(n_state)
+    scratch = np.empty((SCRATCH_ROWS, n_state))
+    work = np.empty((WORK_ROWS, n_state))
     t = carry[C_T]
-    s = (carry[C_Y], carry[C_YD], carry[C_X], carry[C_XD])
-    direction = carry[C_DIR]
+    mode = carry[C_MODE]
     h_ctrl = carry[C_H]
     k = int(carry[C_K])
     boundary = int(carry[C_BOUNDARY])
@@ -87,7 +139,7 @@ def integrate_chunk(
             if target >= t_end:
                 h = t_end - t
                 target = t_end
-        s1, err = advance(method, s, t, h, direction, c, rtol, atol)
+        err = advance(method, s, t, h, mode, c, rtol, atol, s1, work)
         if method != RK4 and not err <= 1.0:
             n_rejects += 1
             factor = 0.2 if err != err else max(0.2, 0.9 * err**exponent)
@@ -96,13 +148,8 @@ def integrate_chunk(
                 status = STEP_UNDERFLOW
                 break
             continue
-        theta, which = first_switch(method, s, s1, t, h, direction, c, rtol, atol)
-        if which >= 0 and theta < 1.0:
-            t_piece = t + theta * h
-            s_piece, _err = advance(method, s, t, theta * h, direction, c, rtol, atol)
-        else:
-            t_piece = target
-            s_piece = s1
+        theta, which = piece_end(method, s, s1, t, h, mode, c, rtol, atol, piece, scratch, work)
+        t_piece = t + theta * h if which >= 0 and theta < 1.0 else target
         if use_t_eval:
             # A time equal to the piece end is written by the next piece (or the final
             # flush), from the state after any switch there.
@@ -112,10 +159,10 @@ def integrate_chunk(
                     break
                 te = t_eval[i_eval]
                 if te <= t:
-                    se = s
+                    n_out = _write(out_t, out_s, out_mode, n_out, te, s, mode)
                 else:
-                    se, _err = advance(method, s, t, te - t, direction, c, rtol, atol)
-                n_out = _write(out_t, out_s, out_dir, n_out, te, se, direction)
+                    advance(method, s, t, te - t, mode, c, rtol, atol, s_eval, work)
+                    n_out = _write(out_t, out_s, out_mode, n_out, te, s_eval, mode)
                 i_eval += 1
             if status == OUTPUT_FULL:
                 break
@@ -124,15 +171,16 @@ def integrate_chunk(
                 status = EVENTS_FULL
                 break
             switches_in_step += 1
-            if switches_in_step > _MAX_SWITCHES_PER_STEP:
+            if switches_in_step > MAX_SWITCHES_PER_STEP:
                 status = STALLED
                 break
-            s_piece, direction, kind = apply_switch(which, s_piece, t_piece, direction, c)
-            ev_t[n_ev] = t_piece
-            ev_kind[n_ev] = kind
-            for j in range(4):
-                ev_s[n_ev, j] = s_piece[j]
-            n_ev += 1
+            mode, kind = apply_switch(which, t_piece, piece, mode, c)
+            if kind != NO_EVENT:
+                ev_t[n_ev] = t_piece
+                ev_kind[n_ev] = kind
+                for j in range(n_state):
+                    ev_s[n_ev, j] = piece[j]
+                n_ev += 1
         if which < 0 or theta >= 1.0:
             switches_in_step = 0
             n_steps += 1
@@ -143,20 +191,21 @@ def integrate_chunk(
             else:
                 h_ctrl = h * 10.0
         t = t_piece
-        s = s_piece
+        copy_state(piece, s)
         boundary += 1
         if not use_t_eval and (boundary % save_every == 0 or t >= t_end):
-            n_out = _write(out_t, out_s, out_dir, n_out, t, s, direction)
+            n_out = _write(out_t, out_s, out_mode, n_out, t, s, mode)
     if status == DONE and use_t_eval:
         while i_eval < t_eval.shape[0] and t_eval[i_eval] <= t:
             if n_out >= cap:
                 status = OUTPUT_FULL
                 break
-            n_out = _write(out_t, out_s, out_dir, n_out, t_eval[i_eval], s, direction)
+            n_out = _write(out_t, out_s, out_mode, n_out, t_eval[i_eval], s, mode)
             i_eval += 1
     carry[C_T] = t
-    carry[C_Y], carry[C_YD], carry[C_X], carry[C_XD] = s
-    carry[C_DIR] = direction
+    for j in range(n_state):
+        carry[C_STATE + j] = s[j]
+    carry[C_MODE] = mode
     carry[C_H] = h_ctrl
     carry[C_K] = k
     carry[C_BOUNDARY] = boundary

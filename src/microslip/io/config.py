@@ -1,10 +1,20 @@
-"""TOML configuration files: ``[parameters]`` plus one table per command.
+"""TOML configuration files: ``[parameters]``, the model's parts, one table per command.
 
 Example::
 
     [parameters]        # any Parameters field, SI units
     mu = 0.12
     c_n = 4.0e16
+
+    [damping]           # normal damping of the contact (default: none, the paper's)
+    law = "viscous"     # "none", "viscous" or "hunt-crossley"
+    ratio = 0.03        # damping ratio zeta at the working point [-]
+
+    [excitation]        # normal excitation (default: none, free vibration)
+    kind = "harmonic-force"   # "none", "harmonic-force", "base-motion", "prescribed-penetration"
+    amplitude = 0.5     # P0 [N] (harmonic-force) or Z, Delta [m]
+    frequency = 1400.0  # f [Hz]
+    # mean = 1e-7       # delta_m [m], prescribed-penetration only
 
     [simulate]          # any option of `microslip simulate`, by its long flag name
     force = 0.5
@@ -13,6 +23,7 @@ Example::
 
 from __future__ import annotations
 
+import math
 import sys
 from pathlib import Path
 from typing import Any
@@ -42,6 +53,58 @@ def load_config(path: str | Path) -> dict[str, Any]:
     except (OSError, tomllib.TOMLDecodeError) as error:
         raise ValueError(f"config file {str(path)!r} is unreadable: {error}") from None
     return data
+
+
+#: The tables of the model's parts and the type of each key ("str" or "float").
+PART_TABLES: dict[str, dict[str, str]] = {
+    "damping": {"law": "str", "ratio": "float"},
+    "excitation": {"kind": "str", "amplitude": "float", "frequency": "float", "mean": "float"},
+}
+
+
+def parts_from_config(data: dict[str, Any], source: str) -> dict[str, dict[str, Any]]:
+    """The ``[damping]`` and ``[excitation]`` tables, checked for unknown keys and types.
+
+    Returns ``{table: {key: value}}`` for the tables present (numbers as floats). Which
+    keys a kind needs, and their ranges, are checked when the model is built
+    (:mod:`microslip.cli.model_options`).
+    """
+    out: dict[str, dict[str, Any]] = {}
+    for name, schema in PART_TABLES.items():
+        if name not in data:
+            continue
+        table = data[name]
+        if not isinstance(table, dict):
+            raise ValueError(f"{source}: [{name}] must be a table")
+        values: dict[str, Any] = {}
+        for key, value in table.items():
+            if key not in schema:
+                raise ValueError(
+                    f"{source}: unknown key {key!r} in [{name}]; known: {', '.join(schema)}"
+                )
+            if schema[key] == "str":
+                if not isinstance(value, str):
+                    raise ValueError(f"{source}: {key} in [{name}] must be a string, got {value!r}")
+            else:
+                value = _number(value)
+                if value is None:
+                    raise ValueError(
+                        f"{source}: {key} in [{name}] must be a finite number, got {table[key]!r}"
+                    )
+            values[key] = value
+        out[name] = values
+    return out
+
+
+def _number(value: Any) -> float | None:
+    """``value`` as a finite float, or None (a TOML boolean is not a number here)."""
+    if isinstance(value, bool) or not isinstance(value, (int, float)):
+        return None
+    try:
+        number = float(value)
+    except OverflowError:  # an integer beyond 1e308
+        return None
+    return number if math.isfinite(number) else None
 
 
 def parameters_from_config(data: dict[str, Any], source: str) -> dict[str, float]:
@@ -80,7 +143,7 @@ def command_options(
     refused, whichever command reads the file), and so is every top-level name (a
     misspelled ``[paramters]`` would otherwise be ignored without a word).
     """
-    known_tables = {"parameters", *schemas}
+    known_tables = {"parameters", *PART_TABLES, *schemas}
     for name, table in data.items():
         if name not in known_tables:
             raise ValueError(

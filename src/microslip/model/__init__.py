@@ -1,16 +1,28 @@
-"""The model: parameters, the normal contact law, the friction law and the drive.
+"""The model: parameters, the parts (contact, damping, excitation, friction, drive), their
+composition (:class:`~microslip.model.composition.Model`) and the composed system.
 
 Integrators import the compiled laws from here; nothing in this package knows about
-time stepping.
+time stepping. Names are imported on first use, so that ``microslip.model.parameters``
+(what the command line needs to build its parser) loads no numba.
 """
 
-from microslip.model.contact import normal_reaction, potential_energy, reaction_array
-from microslip.model.parameters import PARAMETER_UNITS, Parameters
+from __future__ import annotations
 
-__all__ = [
-    "PARAMETER_UNITS",
-    "Parameters",
-    "normal_reaction",
-    "potential_energy",
-    "reaction_array",
-]
+import importlib
+from typing import Any
+
+_EXPORTS = {
+    "PARAMETER_UNITS": "microslip.model.parameters",
+    "Parameters": "microslip.model.parameters",
+    "normal_reaction": "microslip.model.contact",
+    "potential_energy": "microslip.model.contact",
+    "reaction_array": "microslip.model.contact",
+}
+
+__all__ = sorted(_EXPORTS)
+
+
+def __getattr__(name: str) -> Any:
+    if name not in _EXPORTS:
+        raise AttributeError(f"module 'microslip.model' has no attribute {name!r}")
+    return getattr(importlib.import_module(_EXPORTS[name]), name)

@@ -22,7 +22,6 @@ __all__ = [
     "potential_energy",
     "reaction",
     "reaction_array",
-    "reaction_rate",
 ]
 
 
@@ -55,23 +54,18 @@ def elastic_stiffness(delta, c):
 
 @njit(cache=True, inline="always")
 def reaction(y: float, ydot: float, c: np.ndarray) -> float:
-    """Compressive normal reaction |R| = S c_n max(y, 0)^m2 [N], eq. (2.3).
+    """Compressive normal reaction |R| = S c_n max(y, 0)^m2 [N], eq. (2.3), of the
+    paper's elastic contact (no damping, no excitation; ``ydot`` [m/s] unused).
 
-    ``ydot`` [m/s] is unused by the elastic law; it is part of the signature so that a
-    dissipative contact law can take its place without touching the integrators.
+    Kept for the free-vibration analyses of the paper's model; the integrators use the
+    composed law of :mod:`microslip.model.normal`.
     """
     return elastic_force(y, c)
 
 
 @njit(cache=True, inline="always")
-def reaction_rate(y: float, ydot: float, c: np.ndarray) -> float:
-    """d|R|/dt = m2 S c_n y^(m2-1) ẏ [N/s] along the motion (0 out of contact)."""
-    return elastic_stiffness(y, c) * ydot
-
-
-@njit(cache=True, inline="always")
 def normal_acceleration(y: float, ydot: float, c: np.ndarray) -> float:
-    """ÿ = g - |R|/m [m/s^2], eq. (2.4)."""
+    """ÿ = g - |R|/m [m/s^2], eq. (2.4), of the paper's model (see :func:`reaction`)."""
     return c[GRAVITY] - reaction(y, ydot, c) / c[MASS]
 
 

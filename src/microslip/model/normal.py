@@ -17,10 +17,11 @@ from __future__ import annotations
 from numba import njit
 
 from microslip import _jit_cache  # noqa: F401  (registers the cache before any @njit)
-from microslip.model.coefficients import GRAVITY, MASS
+from microslip.model.coefficients import EXCITATION_KIND, GRAVITY, MASS
 from microslip.model.contact import elastic_force, elastic_stiffness
 from microslip.model.damping import damped_force, damped_force_partials
 from microslip.model.excitation import (
+    NONE,
     applied_force,
     is_prescribed,
     prescribed_gap,
@@ -44,6 +45,8 @@ def gap(t, y, ydot, c):
     With a prescribed penetration, δ and δ̇ are the prescribed ones and the third value
     is δ̈ (the body's ÿ then follows δ̈).
     """
+    if c[EXCITATION_KIND] == NONE:  # the paper's free vibration: skip the sin/cos
+        return y, ydot, 0.0
     if is_prescribed(c):
         return prescribed_gap(t, c)
     z, zdot, zddot = surface_motion(t, c)
@@ -74,6 +77,8 @@ def normal_force(t, y, ydot, c):
 @njit(cache=True, inline="always")
 def normal_acceleration(t, y, ydot, c):
     """ÿ [m/s^2]: g + P(t)/m - N/m (eq. 2.4 with excitation); δ̈(t) if prescribed."""
+    if c[EXCITATION_KIND] == NONE:
+        return c[GRAVITY] - normal_force(t, y, ydot, c) / c[MASS]
     if is_prescribed(c):
         return prescribed_gap(t, c)[2]
     return c[GRAVITY] + (applied_force(t, c) - normal_force(t, y, ydot, c)) / c[MASS]

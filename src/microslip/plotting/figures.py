@@ -1,4 +1,5 @@
-"""``write_figures``: every figure of the paper (Figs. 2–7) with the data behind each."""
+"""``write_figures``: every figure of the paper (Figs. 2–7) with the data behind each,
+and, by name, the extensions' figures (:mod:`microslip.plotting.extensions`)."""
 
 from __future__ import annotations
 
@@ -17,6 +18,7 @@ from microslip.plotting.scales import (
 )
 
 __all__ = [
+    "EXTENSION_FIGURES",
     "FIG7_AMPLITUDES",
     "FIG7_FORCES",
     "check_drawable",
@@ -26,7 +28,10 @@ __all__ = [
 ]
 
 # Figures of stick-slip under dry friction, driven by a fraction of mu m g (Sec. 4)
-_NEED_FRICTION = ("fig4", "fig5", "fig6", "fig7")
+_NEED_FRICTION = ("fig4", "fig5", "fig6", "fig7", "forced_velocity_map", "contact_loss")
+
+#: The extensions' figures (drawn by :func:`microslip.plotting.extensions.write_extension_figures`)
+EXTENSION_FIGURES = ("forced_response", "forced_velocity_map", "contact_loss")
 
 
 def check_drawable(params: Parameters, names: Sequence[str]) -> None:
@@ -84,7 +89,8 @@ def write_figures(
     dpi: int = 150,
     progress: Callable[[str], None] | None = None,
 ) -> list[Path]:
-    """Write ``figN.png`` and ``figN.nc`` for each requested figure into ``out_dir``.
+    """Write ``NAME.png`` and ``NAME.nc`` for each requested figure into ``out_dir``
+    (the paper's ``figN``, or the names of :data:`EXTENSION_FIGURES`).
 
     Returns the files written. A figure that has no meaning for ``params`` (Figs. 4–7
     for μ = 0) is skipped; after the others are written, :class:`FigureNotDrawable`
@@ -98,6 +104,12 @@ def write_figures(
     say = progress or (lambda message: None)
     paths: list[Path] = []
     refused: list[FigureNotDrawable] = []
+    extensions = tuple(n for n in names if n in EXTENSION_FIGURES)
+    if extensions:
+        from microslip.plotting.extensions import write_extension_figures
+
+        paths += write_extension_figures(out_dir, params, extensions, dpi=dpi, progress=say)
+        names = tuple(n for n in names if n not in EXTENSION_FIGURES)
     time_domain = tuple(n for n in names if n != "fig7")
     if time_domain:
         try:

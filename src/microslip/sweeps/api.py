@@ -10,17 +10,18 @@ from typing import Any
 import numpy as np
 import xarray as xr
 
+from microslip.model.composition import Model
 from microslip.model.parameters import Parameters
 from microslip.sweeps.runner import check_store_path, check_workers, run_sweep
 from microslip.sweeps.spec import SweepSpec
 
 
 def sweep(
-    params: Parameters | None = None,
+    model_or_params: Model | Parameters | None = None,
     axes: Mapping[str, Any] | None = None,
     *,
     force: Any,
-    amplitude: Any,
+    amplitude: Any = None,
     method: str = "steady",
     duration: float | None = None,
     dt: float | None = None,
@@ -31,30 +32,39 @@ def sweep(
     amplitude_chunk: int | None = None,
     allow_large: bool = False,
 ) -> xr.DataArray:
-    """Mean sliding velocity [m/s] over any Parameters fields, force and amplitude.
+    """Mean sliding velocity [m/s] over any numeric fields of a model, force and amplitude.
 
     Parameters
     ----------
-    params : Parameters, optional
-        Values of the fields that are not swept (paper's data by default).
-    axes : mapping of field name -> values, optional
-        Parameters fields to sweep (e.g. ``{"mu": [...], "m2": [...]}``), in SI units;
-        each becomes a dimension, in this order. Every axis, force and amplitude
-        included, holds distinct values (at most 1e7).
-    force, amplitude : float or array
-        Tangential force F in [0, 1e6 m g] [N] and amplitude A = y0 - y_min in
-        [0, 1e3 y0] [m] (for every swept parameter set); always the last two
-        dimensions ("force", "amplitude").
+    model_or_params : Model or Parameters, optional
+        The model whose fields are not swept (the paper's data and parts by default).
+    axes : mapping of dotted field name -> values, optional
+        Model fields to sweep by their dotted names (:meth:`Model.numeric_fields`, e.g.
+        ``{"mu": [...], "damping.ratio": [...], "excitation.frequency": [...]}``), in SI
+        units; each becomes a dimension, in this order. Each value is checked by
+        building the Model (its own one-line message names the field). Every axis,
+        force and amplitude included, holds distinct values (at most 1e7).
+    force : float or array
+        Tangential force F in [0, 1e6 m g] [N] (for every swept parameter set).
+    amplitude : float or array
+        Free vibration only: amplitude A = y0 - y_min in [0, 1e3 y0] [m]; the last
+        two dimensions are then ("force", "amplitude"). A model with a normal
+        excitation refuses it: its dimensions are (*axes, "force").
     method : {"steady", "time"}
-        "steady": exact long-time mean (docs/model-facts.md, fact 6; 0 where the slider never
-        moves, inf where F > μ m g). "time": batched RK4 with located switching for
-        ``duration`` [s] from rest at the top, mean = x(duration)/duration.
+        "steady": exact long-time mean (docs/model-facts.md, fact 6; 0 where the slider
+        never moves, inf where F > μ m g); on a forced contact the reflected process
+        over one period of the periodic orbit reached from rest, one orbit per
+        parameter set shared by all forces; a damped free vibration decays to rest (0
+        below μ m g). "time": batched RK4 with located switching for ``duration`` [s]
+        from rest (at the top for the free vibration, at y0 under excitation), mean =
+        x(duration)/duration.
     duration : float, optional
         Simulated time per point for "time" [s] (default 0.05 s), at least 1e-6 T0 of
         every parameter set. Refused with "steady" unless it is the default.
     dt : float, optional
-        RK4 step for "time" [s] (default T0/200 of each parameter set); must be
-        <= T0/10 for every parameter set. Refused with "steady".
+        RK4 step for "time" [s] (default T/200 of each parameter set, T = T0 or the
+        excitation period if shorter); must be <= T/10 for every parameter set.
+        Refused with "steady".
     scheduler : str, optional
         Address of a running Dask scheduler (``tcp://host:port``).
     workers : int, optional
@@ -73,7 +83,9 @@ def sweep(
     Returns
     -------
     xarray.DataArray
-        ``mean_velocity`` with dims (*axes, "force", "amplitude") and ``units`` attrs.
+        ``mean_velocity`` with dims (*axes, "force", "amplitude") (free vibration) or
+        (*axes, "force") (forced), ``units`` attrs on it and its coordinates, and the
+        model's parts as attrs (:meth:`Model.to_attrs`).
     """
     workers = check_workers(workers)  # before anything is built or started
     if store is not None:
@@ -83,11 +95,12 @@ def sweep(
     if amplitude_chunk is None and store is None and scheduler is None and workers is None:
         amplitude_chunk = np.size(amplitude)  # in memory, one chunk per parameter set is fastest
     spec = SweepSpec.build(
-        params, axes, force, amplitude, method=method, duration=duration, dt=dt,
+        model_or_params, axes, force, amplitude, method=method, duration=duration, dt=dt,
         amplitude_chunk=amplitude_chunk, allow_large=allow_large,
     )  # fmt: skip
     ds = run_sweep(spec, store=store, scheduler=scheduler, workers=workers, progress=progress)
     velocity = ds["mean_velocity"]
+    velocity.attrs.update(spec.base.to_attrs())
     if np.isinf(velocity.values).any():
         warnings.warn(
             "some points have F > mu m g: no steady state, mean velocity set to inf",
@@ -104,16 +117,19 @@ _SWEEP_OPTIONS = (
 
 
 def velocity_map(
-    params: Parameters | None = None,
+    model_or_params: Model | Parameters | None = None,
     *,
     forces: Any,
-    amplitudes: Any,
+    amplitudes: Any = None,
+    frequencies: Any = None,
     **options: Any,
 ) -> xr.DataArray:
     """Mean sliding velocity v(F, A) [m/s] on a grid: the map of Fig. 7.
 
     ``forces`` [N] and ``amplitudes`` [m] are 1-D arrays; the result has dims
-    ("force", "amplitude"). Other options as for :func:`sweep` (``method``,
+    ("force", "amplitude"). For a model with a normal excitation give no amplitudes;
+    with ``frequencies`` [Hz] the map is v(f, F) with dims ("excitation.frequency",
+    "force"), otherwise ("force",). Other options as for :func:`sweep` (``method``,
     ``duration``, ``dt``, ``scheduler``, ``workers``, ``store``, ``progress``,
     ``amplitude_chunk``, ``allow_large``); any other keyword is refused with
     ``ValueError``.
@@ -122,6 +138,7 @@ def velocity_map(
     if unknown:
         raise ValueError(
             f"velocity_map() got an unknown keyword {unknown[0]!r}; "
-            f"known: forces, amplitudes, {', '.join(_SWEEP_OPTIONS)}"
+            f"known: forces, amplitudes, frequencies, {', '.join(_SWEEP_OPTIONS)}"
         )
-    return sweep(params, None, force=forces, amplitude=amplitudes, **options)
+    axes = None if frequencies is None else {"excitation.frequency": frequencies}
+    return sweep(model_or_params, axes, force=forces, amplitude=amplitudes, **options)

@@ -18,6 +18,10 @@ def compute_chunk(spec: SweepSpec, key: ChunkKey) -> np.ndarray:
     Each point is computed independently of the chunking, so results are bit-identical
     however the sweep is split or distributed.
     """
+    if spec.forced:
+        return forced_chunk(spec, key)
+    if spec.base.damping is not None and spec.method == "steady":
+        return damped_free_chunk(spec, key)
     params = spec.params_at(key)
     forces = np.asarray(spec.forces)
     amplitudes = np.asarray(spec.amplitudes[spec.amplitude_slice(key)])
@@ -29,10 +33,77 @@ def compute_chunk(spec: SweepSpec, key: ChunkKey) -> np.ndarray:
     from microslip.integrators.batched import simulate_batch
 
     dt = spec.dt if spec.dt is not None else params.natural_period / DEFAULT_RK4_STEPS_PER_PERIOD
-    coeffs = np.repeat(pack(params, 0.0)[None, :], forces.size * amplitudes.size, axis=0)
+    coeffs = np.repeat(spec.model_at(key).pack(0.0)[None, :], forces.size * amplitudes.size, axis=0)
     coeffs[:, FORCE] = np.repeat(forces, amplitudes.size)
     states0 = np.array(
         [initial_state_from_amplitude(params, a) for a in amplitudes] * forces.size, dtype=float
     )
     result = simulate_batch(coeffs, states0, spec.duration, dt)
     return (result.states[:, 2] / spec.duration).reshape(forces.size, amplitudes.size)
+
+
+# -- models past the paper's (docs/design.md) ---------------------------------------------
+def damped_free_chunk(spec: SweepSpec, key: ChunkKey) -> np.ndarray:
+    """Damped free vibration: it decays to rest, N -> m g; 0 below μ m g, inf above."""
+    params = spec.params_at(key)
+    forces = np.asarray(spec.forces)
+    amplitudes = np.asarray(spec.amplitudes[spec.amplitude_slice(key)])
+    limit = params.static_friction_force
+    if np.any(forces == limit) and np.any(amplitudes > 0.0):
+        raise ValueError(
+            f"force={limit!r} N equals mu m g on a damped free vibration: the long-time speed "
+            "depends on the transient; use method='time'"
+        )
+    out = np.where(forces > limit, np.inf, 0.0)
+    return np.repeat(out[:, None], amplitudes.size, axis=1)
+
+
+def forced_chunk(spec: SweepSpec, key: ChunkKey) -> np.ndarray:
+    """A forced model's chunk: every force on one parameter set, shape (forces, 1).
+
+    "steady": the reflected process over one period of the periodic orbit reached from
+    rest, shared by every force (a time average where that response is not period-1,
+    with a ``RuntimeWarning``). "time": x(T)/T of a batched RK4 run from rest at y0.
+    """
+    import warnings
+
+    from microslip.analysis.forced_sliding import mean_velocities
+    from microslip.analysis.periodic import NotPeriodOneError
+    from microslip.analysis.sliding_tables import model_sliding_table
+    from microslip.analysis.steady_state import FALLBACK_PERIODS
+
+    model = spec.model_at(key)
+    forces = np.asarray(spec.forces, dtype=float)
+    if spec.method == "time":
+        return (_forced_run(spec, model, forces, spec.duration)[:, 2] / spec.duration)[:, None]
+    try:
+        table = model_sliding_table(model)
+    except NotPeriodOneError as error:
+        warnings.warn(
+            f"{error}; the sweep point uses the time average of an RK4 run over "
+            f"{FALLBACK_PERIODS} excitation periods (second half)",
+            RuntimeWarning,
+            stacklevel=2,
+        )
+        half = 0.5 * FALLBACK_PERIODS * model.excitation.period
+        states = _forced_run(spec, model, forces, half)
+        end = _forced_run(spec, model, forces, half, states0=states)
+        return ((end[:, 2] - states[:, 2]) / half)[:, None]
+    return mean_velocities(table, model.params.mu, forces)[:, None]
+
+
+def _forced_run(spec, model, forces, duration, states0=None) -> np.ndarray:
+    """Final states of a batched RK4 run (one lane per force) from rest at t = 0.
+
+    ``duration`` must be a whole number of excitation periods when ``states0`` continues
+    an earlier run (the excitation restarts at phase 0)."""
+    from microslip.integrators.batched import simulate_batch
+
+    period = SweepSpec.step_period(model)
+    dt = spec.dt if spec.dt is not None else period / DEFAULT_RK4_STEPS_PER_PERIOD
+    coeffs = np.repeat(model.pack(0.0)[None, :], forces.size, axis=0)
+    coeffs[:, FORCE] = forces
+    if states0 is None:
+        states0 = np.zeros((forces.size, 4))
+        states0[:, 0] = model.params.static_deflection
+    return simulate_batch(coeffs, states0, duration, dt).states

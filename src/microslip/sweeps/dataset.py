@@ -9,14 +9,14 @@ import xarray as xr
 
 import microslip
 from microslip.metadata import cf_static_attributes
-from microslip.model.parameters import Parameters
 from microslip.sweeps.spec import SweepSpec
 
 
 def sweep_dataset(spec: SweepSpec, values: np.ndarray) -> xr.Dataset:
-    """Dataset with ``mean_velocity`` [m/s] and the no-sliding boundary ``motion_threshold`` [N]."""
+    """Dataset with ``mean_velocity`` [m/s] and, for the free vibration, the no-sliding
+    boundary ``motion_threshold`` [N]. A forced model's result has no amplitude axis."""
     coords = {
-        name: (name, np.asarray(vals), {"units": Parameters.field_unit(name), "long_name": name})
+        name: (name, np.asarray(vals), {"units": spec.base.unit(name), "long_name": name})
         for name, vals in spec.param_axes
     }
     coords["force"] = (
@@ -24,15 +24,27 @@ def sweep_dataset(spec: SweepSpec, values: np.ndarray) -> xr.Dataset:
         np.asarray(spec.forces),
         {"units": "N", "long_name": "tangential force F"},
     )
-    coords["amplitude"] = (
-        "amplitude",
-        np.asarray(spec.amplitudes),
-        {"units": "m", "long_name": "normal vibration amplitude A = y0 - y_min"},
-    )
     long_name = (
         "long-time mean sliding velocity (exact steady state)"
         if spec.method == "steady"
         else f"mean sliding velocity x(T)/T over T = {spec.duration!r} s (RK4)"
+    )
+    attrs = {
+        **cf_static_attributes("microslip mean sliding velocity sweep"),
+        "method": spec.method,
+        "sweep_definition": json.dumps(spec.definition(), sort_keys=True),
+        "microslip_version": microslip.__version__,
+        **spec.base.to_attrs(),
+    }
+    if spec.forced:
+        velocity = xr.Variable(
+            spec.result_dims, values[..., 0], {"units": "m s-1", "long_name": long_name}
+        )
+        return xr.Dataset({"mean_velocity": velocity}, coords=coords, attrs=attrs)
+    coords["amplitude"] = (
+        "amplitude",
+        np.asarray(spec.amplitudes),
+        {"units": "m", "long_name": "normal vibration amplitude A = y0 - y_min"},
     )
     velocity = xr.Variable(spec.dims, values, {"units": "m s-1", "long_name": long_name})
     threshold_dims = (*(name for name, _ in spec.param_axes), "amplitude")
@@ -50,12 +62,6 @@ def sweep_dataset(spec: SweepSpec, values: np.ndarray) -> xr.Dataset:
             ),
         },
         coords=coords,
-        attrs={
-            **cf_static_attributes("microslip mean sliding velocity sweep"),
-            "method": spec.method,
-            "sweep_definition": json.dumps(spec.definition(), sort_keys=True),
-            "microslip_version": microslip.__version__,
-            **{f"param_{k}": v for k, v in spec.base.to_dict().items()},
-        },
+        attrs=attrs,
     )
     return ds

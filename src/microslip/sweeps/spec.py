@@ -1,8 +1,12 @@
-"""The definition of a sweep: a grid over Parameters fields, force and amplitude, in chunks.
+"""The definition of a sweep: a grid over a Model's numeric fields, force and amplitude.
 
-A chunk is one combination of the parameter axes, every force, and a run of consecutive
-amplitudes: at a given amplitude the steady-state method shares one normal orbit across
-all forces, so forces are never split.
+Axes are keyed by the model's dotted names ("mu", "params.mu", "damping.ratio",
+"excitation.frequency", ...; :meth:`Model.numeric_fields`). A chunk is one combination
+of the parameter axes, every force, and a run of consecutive amplitudes: at a given
+amplitude the steady-state method shares one normal orbit across all forces, so forces
+are never split. A model with a normal excitation has no amplitude axis (its normal
+motion is set by the excitation): it is stored with one placeholder amplitude and the
+result drops that axis.
 """
 
 from __future__ import annotations
@@ -12,74 +16,23 @@ import itertools
 import json
 import math
 from collections.abc import Iterator, Mapping
-from dataclasses import dataclass, fields
+from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
 
 from microslip import budget
 from microslip import validation as check
-from microslip.model.parameters import DERIVED_RANGES, FIELD_RANGES, Parameters, derived_log10
-from microslip.validation import DEFAULT_RK4_STEPS_PER_PERIOD, MAX_AXIS_VALUES
+from microslip.model.composition import Model, as_model
+from microslip.model.parameters import DERIVED_RANGES, Parameters
+from microslip.sweeps.axes import check_fields, check_part_axes, checked_axis, grid_logs
+from microslip.validation import DEFAULT_RK4_STEPS_PER_PERIOD
 
 METHODS = ("steady", "time")
 DEFAULT_DURATION = 0.05  # [s], "time" method
 # Parameter combinations are checked on a dense grid; beyond this many it would not fit.
 MAX_PARAMETER_SETS = 10_000_000
-_DERIVED_FIELDS = ("mass", "g", "area", "c_n", "m2")
 ChunkKey = tuple[int, ...]  # parameter-axis indices..., amplitude-chunk index
-
-
-def _axis(name: str, values: Any) -> np.ndarray:
-    """One sweep axis: distinct finite reals, at most ``MAX_AXIS_VALUES`` of them."""
-    size = np.size(values) if isinstance(values, np.ndarray) else None
-    if size is not None and size > MAX_AXIS_VALUES:  # before any copy
-        raise ValueError(f"{name}: {size} values; at most {MAX_AXIS_VALUES} are supported")
-    array = check.real_array(name, values)
-    if array.size > MAX_AXIS_VALUES:
-        raise ValueError(f"{name}: {array.size} values; at most {MAX_AXIS_VALUES} are supported")
-    ordered = np.sort(array)
-    repeated = ordered[1:][ordered[1:] == ordered[:-1]]
-    if repeated.size:  # a repeated value would make an ambiguous coordinate
-        raise ValueError(f"{name}: value {float(repeated[0])!r} is given more than once")
-    return array
-
-
-def _check_fields(params: Parameters, arrays: list[tuple[str, np.ndarray]]) -> None:
-    """Each swept value within its field's own range (as the Parameters constructor
-    checks it, vectorised); the first bad one is refused by the constructor's message."""
-    specs = {f.name: f for f in fields(Parameters)}
-    for name, values in arrays:
-        positive = specs[name].metadata["positive"]
-        ok = values > 0.0 if positive else values >= 0.0
-        low, high = FIELD_RANGES.get(name, (-math.inf, math.inf))
-        ok &= (values >= low) & (values <= high)
-        if not ok.all():
-            params.replace(**{name: float(values[np.argmin(ok)])})
-
-
-def _field_grid(base: Parameters, param_axes) -> dict[str, np.ndarray]:
-    """Each Parameters field, broadcast to the parameter axes' shape."""
-    shape = tuple(len(values) for _, values in param_axes)
-    grid = {}
-    for name in Parameters.field_names():
-        value = np.asarray(getattr(base, name), dtype=float)
-        for axis, (swept, values) in enumerate(param_axes):
-            if swept == name:
-                index = [1] * len(shape)
-                index[axis] = len(values)
-                value = np.asarray(values, dtype=float).reshape(index)
-        grid[name] = np.broadcast_to(value, shape)
-    return grid
-
-
-def _grid_logs(base: Parameters, param_axes) -> dict[str, np.ndarray]:
-    grid = _field_grid(base, param_axes)
-    logs = derived_log10(*(grid[name] for name in _DERIVED_FIELDS))
-    shape = grid["mass"].shape
-    logs = {name: np.broadcast_to(value, shape) for name, value in logs.items()}
-    logs["mg"] = np.broadcast_to(np.log10(grid["mass"]) + np.log10(grid["g"]), shape)
-    return logs
 
 
 def _estimate(
@@ -99,7 +52,7 @@ def _estimate(
         if dt is not None:
             steps = np.full(1, float(math.ceil(duration / dt))) * n_sets
         else:  # dt = T0/200 per set: steps = duration * 200 * f0
-            f0 = 10.0 ** _grid_logs(base, param_axes)["f0"]
+            f0 = 10.0 ** grid_logs(base, param_axes)["f0"]
             steps = np.ceil(duration * DEFAULT_RK4_STEPS_PER_PERIOD * f0).ravel()
         total_steps = float(np.sum(steps))
         lane_steps = total_steps * n_forces * n_amplitudes
@@ -128,17 +81,18 @@ class SweepSpec:
 
     Attributes
     ----------
-    base : the parameters not swept
-    param_axes : ((field name, values), ...) swept Parameters fields, in order
+    base : the model whose fields are not swept (its ``params``: the Parameters)
+    param_axes : ((dotted field name, values), ...) swept model fields, in order
     forces : tangential forces F [N]
-    amplitudes : normal vibration amplitudes A [m]
+    amplitudes : normal vibration amplitudes A [m] (one NaN placeholder for a model
+        with a normal excitation)
     method : "steady" (exact steady state) or "time" (batched RK4 over ``duration``)
     duration : simulated time per point for "time" [s]
     dt : RK4 step for "time" [s]; None means T0/200 of each parameter set
     amplitude_chunk : amplitudes per chunk
     """
 
-    base: Parameters
+    base: Model
     param_axes: tuple[tuple[str, tuple[float, ...]], ...]
     forces: tuple[float, ...]
     amplitudes: tuple[float, ...]
@@ -150,10 +104,10 @@ class SweepSpec:
     @classmethod
     def build(
         cls,
-        params: Parameters | None,
+        model_or_params: Model | Parameters | None,
         axes: Mapping[str, Any] | None,
         forces: Any,
-        amplitudes: Any,
+        amplitudes: Any = None,
         *,
         method: str = "steady",
         duration: float | None = None,
@@ -163,8 +117,11 @@ class SweepSpec:
     ) -> SweepSpec:
         """Validate every input and build the spec (``ValueError`` naming the culprit).
 
-        Every combination of the swept fields must make valid :class:`Parameters`
-        (at most ``MAX_PARAMETER_SETS`` combinations). Forces must be in
+        Axes are keyed by the model's dotted field names (:meth:`Model.numeric_fields`);
+        every combination of the swept fields must make a valid model (at most
+        ``MAX_PARAMETER_SETS`` combinations; values of part fields are checked by
+        building the :class:`Model`). A model with a normal excitation takes no
+        amplitudes (its dims are (*axes, "force")). Forces must be in
         [0, 1e6 m g] and amplitudes in [0, 1e3 y0] for every combination. ``duration``
         [s] (default 0.05 s) and ``dt`` [s] (default T0/200 of each combination) apply
         to ``method="time"`` only: with "steady" a ``dt`` or a ``duration`` other than
@@ -180,13 +137,20 @@ class SweepSpec:
         ``allow_large``; with ``allow_large`` False the full check of
         :meth:`check_budget` is made here too (None: left to :meth:`check_budget`).
         """
-        params = Parameters() if params is None else params
-        if not isinstance(params, Parameters):
-            raise ValueError(f"params must be a microslip.Parameters, got {type(params).__name__}")
+        model = as_model(model_or_params)
+        params = model.params
+        forced = model.excitation is not None
+        if forced and amplitudes is not None:
+            raise ValueError(
+                "amplitude applies to the free vibration; this model's normal motion is set "
+                "by its excitation (sweep 'excitation.amplitude' instead)"
+            )
+        if not forced and amplitudes is None:
+            raise ValueError("amplitude [m] is required for the free normal vibration")
         method = check.one_of("method", method, METHODS)
         if axes is not None and not isinstance(axes, Mapping):
             raise ValueError(
-                "axes must be a mapping of Parameters field -> values, e.g. {'mu': [0.1, 0.2]}; "
+                "axes must be a mapping of model field -> values, e.g. {'mu': [0.1, 0.2]}; "
                 f"got {type(axes).__name__}"
             )
         # Arrays first, tuples last: sizes, work and memory are checked before anything
@@ -195,18 +159,25 @@ class SweepSpec:
         for name, values in (axes or {}).items():
             if name in ("force", "amplitude"):
                 raise ValueError(f"{name!r} is a sweep axis of its own; pass it as {name}=...")
-            if name not in Parameters.field_names():
-                known = ", ".join(Parameters.field_names())
+            if not isinstance(name, str):
+                raise ValueError(f"a sweep axis name must be a string, got {name!r}")
+            if name.removeprefix("params.") not in model.numeric_fields():
+                if name.split(".", 1)[0] in model.parts():
+                    model.canonical_name(name)  # the model's message (no such part)
+                known = ", ".join(model.numeric_fields())
                 raise ValueError(f"unknown parameter {name!r} in sweep; known: {known}")
-            arrays.append((name, _axis(name, values)))
-        forces = _axis("force", forces)
+            name = model.canonical_name(name)
+            if any(name == other for other, _ in arrays):
+                raise ValueError(f"{name!r} is given twice as a sweep axis")
+            arrays.append((name, checked_axis(name, values)))
+        forces = checked_axis("force", forces)
         if np.any(forces < 0):
             raise ValueError(
                 f"force must be >= 0 N in a sweep (the mean velocity is computed for forward "
                 f"sliding), got {float(forces[forces < 0][0])!r}"
             )
-        amplitudes = _axis("amplitude", amplitudes)
-        if np.any(amplitudes < 0):
+        amplitudes = np.array([math.nan]) if forced else checked_axis("amplitude", amplitudes)
+        if not forced and np.any(amplitudes < 0):
             raise ValueError(
                 f"amplitude must be >= 0 m, got {float(amplitudes[amplitudes < 0][0])!r}"
             )
@@ -233,7 +204,8 @@ class SweepSpec:
                 f"the sweep has {n_sets} parameter combinations; at most "
                 f"{MAX_PARAMETER_SETS} are supported"
             )
-        _check_fields(params, arrays)
+        check_fields(params, arrays)
+        check_part_axes(model, arrays)
         estimate = _estimate(
             params, arrays, len(forces), len(amplitudes), method, duration, dt, amplitude_chunk
         )
@@ -242,7 +214,7 @@ class SweepSpec:
         # Memory beyond what is available cannot be had, whatever allow_large says.
         budget.check_fits(estimate)
         spec = cls(
-            base=params,
+            base=model,
             param_axes=tuple((name, tuple(float(v) for v in values)) for name, values in arrays),
             forces=tuple(float(f) for f in forces),
             amplitudes=tuple(float(a) for a in amplitudes),
@@ -258,6 +230,14 @@ class SweepSpec:
     def _params_at_index(self, index: tuple[int, ...]) -> Parameters:
         return self.params_at((*index, 0))
 
+    @property
+    def forced(self) -> bool:
+        """True for a model with a normal excitation (no amplitude axis)."""
+        return self.base.excitation is not None
+
+    def _part_axes(self) -> bool:
+        return any("." in name for name, _ in self.param_axes)
+
     def _where(self, index: tuple[int, ...]) -> str:
         if not self.param_axes:
             return ""
@@ -271,7 +251,7 @@ class SweepSpec:
         """Every combination valid; forces, amplitudes and dt within its limits.
 
         Called by :meth:`build` once it has checked the number of combinations."""
-        logs = _grid_logs(self.base, self.param_axes)
+        logs = grid_logs(self.base.params, self.param_axes)
         bad = np.zeros(logs["mg"].shape, dtype=bool)
         for name, (low, high, _unit, _description) in DERIVED_RANGES.items():
             bad |= ~((logs[name] >= math.log10(low)) & (logs[name] <= math.log10(high)))
@@ -284,10 +264,14 @@ class SweepSpec:
             check.force(self._params_at_index(worst_mg), max(self.forces))
         except ValueError as error:
             raise ValueError(f"{error}{self._where(worst_mg)}") from None
-        try:
-            check.amplitude(self._params_at_index(worst_y0), max(self.amplitudes))
-        except ValueError as error:
-            raise ValueError(f"{error}{self._where(worst_y0)}") from None
+        if not self.forced:
+            try:
+                check.amplitude(self._params_at_index(worst_y0), max(self.amplitudes))
+            except ValueError as error:
+                raise ValueError(f"{error}{self._where(worst_y0)}") from None
+        if self.method == "time" and self.forced:
+            self._check_forced_time()
+            return
         if self.method == "time":
             longest = np.unravel_index(np.argmax(logs["T0"]), logs["T0"].shape)
             params = self._params_at_index(longest)
@@ -297,10 +281,30 @@ class SweepSpec:
             params = self._params_at_index(worst)
             check.rk4_step(self.dt, params.natural_period, where=self._where(worst))
 
+    def _check_forced_time(self) -> None:
+        """Duration and step against min(T0, excitation period) of every set."""
+        shortest = (math.inf, ())
+        longest = (0.0, ())
+        for index in itertools.product(*(range(len(v)) for _, v in self.param_axes)):
+            period = self.step_period(self.model_at((*index, 0)))
+            shortest = min(shortest, (period, index))
+            longest = max(longest, (self.model_at((*index, 0)).params.natural_period, index))
+        check.duration(self.duration, longest[0], where=self._where(longest[1]))
+        if self.dt is not None:
+            check.rk4_step(self.dt, shortest[0], where=self._where(shortest[1]))
+
+    @staticmethod
+    def step_period(model: Model) -> float:
+        """The period an RK4 step must resolve [s]: T0, or the excitation's if shorter."""
+        period = model.params.natural_period
+        if model.excitation is not None:
+            period = min(period, model.excitation.period)
+        return period
+
     def estimate(self) -> budget.Estimate:
         """Estimated work, run time [s] and memory [bytes] (:mod:`microslip.budget`)."""
         return _estimate(
-            self.base, self.param_axes, len(self.forces), len(self.amplitudes), self.method,
+            self.base.params, self.param_axes, len(self.forces), len(self.amplitudes), self.method,
             self.duration, self.dt, self.amplitude_chunk,
         )  # fmt: skip
 
@@ -313,7 +317,13 @@ class SweepSpec:
     # -- geometry ---------------------------------------------------------------------
     @property
     def dims(self) -> tuple[str, ...]:
+        """Dims of the stored array (with "amplitude", a placeholder for a forced model)."""
         return (*(name for name, _ in self.param_axes), "force", "amplitude")
+
+    @property
+    def result_dims(self) -> tuple[str, ...]:
+        """Dims of the result: (*axes, "force") for a forced model."""
+        return self.dims[:-1] if self.forced else self.dims
 
     @property
     def shape(self) -> tuple[int, ...]:
@@ -340,17 +350,21 @@ class SweepSpec:
         """Index of the chunk's block in the full (params..., force, amplitude) array."""
         return (*key[:-1], slice(None), self.amplitude_slice(key))
 
-    def params_at(self, key: ChunkKey) -> Parameters:
+    def model_at(self, key: ChunkKey) -> Model:
         changes = {
             name: values[i] for (name, values), i in zip(self.param_axes, key[:-1], strict=True)
         }
         return self.base.replace(**changes) if changes else self.base
 
+    def params_at(self, key: ChunkKey) -> Parameters:
+        return self.model_at(key).params
+
     # -- identity -----------------------------------------------------------------------
     def definition(self) -> dict[str, Any]:
         """Everything that determines the result, as JSON-able data (floats exact via repr)."""
         return {
-            "base": {k: repr(v) for k, v in self.base.to_dict().items()},
+            "base": {k: repr(v) for k, v in self.base.params.to_dict().items()},
+            "model": {k: repr(v) for k, v in self.base.to_attrs().items()},
             "param_axes": [[name, [repr(v) for v in values]] for name, values in self.param_axes],
             "forces": [repr(v) for v in self.forces],
             "amplitudes": [repr(v) for v in self.amplitudes],

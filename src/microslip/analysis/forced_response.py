@@ -1,0 +1,247 @@
+"""Forced response of the normal motion: periodic orbits continued in frequency or amplitude.
+
+The branch of period-1 orbits (:mod:`microslip.analysis.periodic`) is followed by
+pseudo-arclength continuation (:mod:`microslip.analysis.continuation`) in the scaled
+shooting state u = (y/y0, ẏ/(y0 ω0)) at t = 0 and the scaled parameter λ = f/f0 (or
+a/a_ref for the excitation amplitude, a_ref = m g for a force, y0 for a base motion).
+It starts on the orbit reached from rest at the first value and ends exactly at the
+second, the first time the branch gets there; so on a folded curve the two directions
+end on different stable orbits inside the hysteresis band. Each point carries its
+Floquet multipliers (stable, largest modulus), whether contact is lost, and whether a
+multiplier left the unit circle through -1 (period doubling: that stretch is continued
+as unstable period-1 orbits and flagged).
+"""
+
+from __future__ import annotations
+
+import math
+import warnings
+from typing import Any
+
+import numpy as np
+import xarray as xr
+
+from microslip.analysis.continuation import continue_branch
+from microslip.analysis.normal_flow import S_FLIGHT, S_NMAX, S_NMIN, S_YMAX, S_YMIN, propagate
+from microslip.analysis.periodic import (
+    FREE_VIBRATION_INSTEAD,
+    STABILITY_MARGIN,
+    periodic_orbit,
+    state_scale,
+    steps_per_period,
+)
+from microslip.metadata import cf_static_attributes
+from microslip.model.capabilities import require
+from microslip.model.coefficients import EXCITATION_AMPLITUDE, EXCITATION_OMEGA
+from microslip.model.composition import Model, as_model
+from microslip.model.excitation import FREQUENCY_FACTOR, BaseMotion, HarmonicForce
+
+__all__ = ["forced_response"]
+
+MAX_POINTS_LIMIT = 100_000
+_DIFF_STEP = 1e-6  # relative step of the central difference ∂F/∂λ
+
+
+def _pair(name: str, value: Any) -> tuple[float, float]:
+    try:
+        a, b = (float(v) for v in value)
+    except (TypeError, ValueError):
+        raise ValueError(f"{name} must be a pair (start, end) of numbers, got {value!r}") from None
+    if not (math.isfinite(a) and math.isfinite(b)):
+        raise ValueError(f"{name} must be finite, got {value!r}")
+    if a == b:
+        raise ValueError(f"{name} must have distinct start and end, got {value!r}")
+    return a, b
+
+
+def _check(
+    model: Model, frequencies: Any, amplitudes: Any, max_points: Any
+) -> tuple[str, float, float]:
+    require(
+        model,
+        "forced_response",
+        allowed={"excitation": (HarmonicForce, BaseMotion)},
+        instead=(
+            "a prescribed penetration has no normal dynamics to continue; "
+            if model.excitation is not None
+            else ""
+        )
+        + "give a HarmonicForce or BaseMotion excitation"
+        + ("" if model.excitation is not None else f" ({FREE_VIBRATION_INSTEAD})"),
+    )
+    if (frequencies is None) == (amplitudes is None):
+        raise ValueError(
+            "give exactly one of frequencies=(f_start, f_end) or amplitudes=(a_start, a_end)"
+        )
+    if isinstance(max_points, bool) or not isinstance(max_points, int | np.integer):
+        raise ValueError(f"max_points must be an int, got {max_points!r}")
+    if not 2 <= max_points <= MAX_POINTS_LIMIT:
+        raise ValueError(f"max_points must be in [2, {MAX_POINTS_LIMIT}], got {max_points!r}")
+    if frequencies is not None:
+        start, end = _pair("frequencies", frequencies)
+        f0 = model.params.natural_frequency
+        for f in (start, end):
+            if not f0 / FREQUENCY_FACTOR <= f <= f0 * FREQUENCY_FACTOR:
+                raise ValueError(
+                    f"frequencies must lie in [1e-3 f0, 1e3 f0] = [{f0 / FREQUENCY_FACTOR:.6g}, "
+                    f"{f0 * FREQUENCY_FACTOR:.6g}] Hz, got {f!r}"
+                )
+        return "frequency", start, end
+    start, end = _pair("amplitudes", amplitudes)
+    for a in (start, end):
+        model.replace(**{"excitation.amplitude": a})  # the part's own range check
+    return "amplitude", start, end
+
+
+def forced_response(
+    model: Model,
+    *,
+    frequencies: tuple[float, float] | None = None,
+    amplitudes: tuple[float, float] | None = None,
+    max_points: int = 2000,
+    step: float = 0.01,
+    max_step: float = 0.05,
+) -> xr.Dataset:
+    """Period-1 forced response of the normal motion, continued through folds.
+
+    Parameters
+    ----------
+    model : Model
+        With a HarmonicForce or BaseMotion excitation (its frequency is replaced along a
+        frequency branch; its amplitude along an amplitude branch).
+    frequencies : (f_start, f_end), optional
+        Excitation frequencies [Hz], in [1e-3 f0, 1e3 f0], distinct.
+    amplitudes : (a_start, a_end), optional
+        Excitation amplitudes [N for a force, m for a base motion], at the model's
+        frequency. Exactly one of ``frequencies`` and ``amplitudes``.
+    max_points : int
+        Cap on the number of branch points (the branch may then stop short of the end:
+        a warning, and ``attrs["complete"] = 0``).
+    step, max_step : float
+        Initial and largest pseudo-arclength step in scaled variables.
+
+    Returns
+    -------
+    xarray.Dataset
+        On dim ``point``: frequency [Hz], excitation_amplitude [N or m], amplitude
+        (y_max - y_min)/2 [m], y_min, y_max [m], N_min, N_max [N], stable,
+        max_multiplier [1], contact_lost, period_doubling; attrs ``folds`` (indices of
+        the points just past each fold), ``complete``, the model's attributes and the CF
+        global attributes.
+    """
+    model = as_model(model)
+    kind, start, end = _check(model, frequencies, amplitudes, max_points)
+    params = model.params
+    f0 = params.natural_frequency
+    scale = state_scale(model)
+    amp_unit = "N" if isinstance(model.excitation, HarmonicForce) else "m"
+    a_ref = params.mass * params.g if amp_unit == "N" else params.static_deflection
+    if kind == "frequency":
+        first = model.replace(**{"excitation.frequency": start})
+        lam_ref = f0
+        n_steps = steps_per_period(model, 0.8 * min(start, end))
+    else:
+        first = model.replace(**{"excitation.amplitude": start})
+        lam_ref = a_ref
+        n_steps = steps_per_period(model)
+    base = first.pack(0.0)
+
+    def coefficients(lam: float) -> tuple[np.ndarray, float]:
+        c = base.copy()
+        if kind == "frequency":
+            c[EXCITATION_OMEGA] = 2.0 * math.pi * lam * lam_ref
+        else:
+            c[EXCITATION_AMPLITUDE] = lam * lam_ref
+        return c, 2.0 * math.pi / c[EXCITATION_OMEGA]
+
+    def shoot_map(u: np.ndarray, lam: float) -> tuple[np.ndarray, np.ndarray]:
+        c, period = coefficients(lam)
+        s = u * scale
+        end_state, phi, _, _, _ = propagate(c, s[0], s[1], 0.0, period, n_steps, False)
+        return end_state / scale - u, phi
+
+    def residual(u: np.ndarray, lam: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        f, phi = shoot_map(u, lam)
+        jac = phi * scale[np.newaxis, :] / scale[:, np.newaxis] - np.eye(2)
+        h = _DIFF_STEP * max(abs(lam), 1e-3)
+        f_lam = (shoot_map(u, lam + h)[0] - shoot_map(u, lam - h)[0]) / (2.0 * h)
+        return f, jac, f_lam
+
+    orbit = periodic_orbit(first, strict=False)
+    branch = continue_branch(
+        residual,
+        orbit.y0_state / scale,
+        start / lam_ref,
+        end / lam_ref,
+        step=step,
+        max_step=max_step,
+        max_points=max_points,
+    )
+    if not branch.complete:
+        warnings.warn(
+            f"forced_response stopped at max_points = {max_points} before reaching {end!r}",
+            RuntimeWarning,
+            stacklevel=2,
+        )
+    rows = [
+        _point(coefficients(lam), n_steps, u * scale)
+        for u, lam in zip(branch.u, branch.lam, strict=True)
+    ]
+    table = np.array(rows)
+    lam = np.array(branch.lam) * lam_ref
+    if kind == "frequency":
+        freq, exc = lam, np.full(lam.size, float(first.excitation.amplitude))
+    else:
+        freq, exc = np.full(lam.size, float(first.excitation.frequency)), lam
+    data = {
+        "frequency": (freq, "Hz", "excitation frequency"),
+        "excitation_amplitude": (exc, amp_unit, "excitation amplitude"),
+        "amplitude": (
+            0.5 * (table[:, 1] - table[:, 0]),
+            "m",
+            "response amplitude (y_max - y_min)/2",
+        ),
+        "y_min": (table[:, 0], "m", "lowest normal position over the period"),
+        "y_max": (table[:, 1], "m", "highest normal position over the period"),
+        "N_min": (table[:, 2], "N", "smallest normal force over the period"),
+        "N_max": (table[:, 3], "N", "largest normal force over the period"),
+        "stable": (table[:, 5] < 1.0 + STABILITY_MARGIN, "1", "orbit is stable (Floquet)"),
+        "max_multiplier": (table[:, 5], "1", "largest Floquet multiplier modulus"),
+        "contact_lost": (table[:, 4] > 0.0, "1", "normal force reaches zero on the orbit"),
+        "period_doubling": (table[:, 6] > 0.0, "1", "a Floquet multiplier is real and below -1"),
+    }
+    ds = xr.Dataset(
+        {
+            name: ("point", values, {"units": units, "long_name": long_name})
+            for name, (values, units, long_name) in data.items()
+        }
+    )
+    ds.attrs.update(cf_static_attributes("microslip forced response of the normal motion"))
+    ds.attrs.update(model.to_attrs())
+    ds.attrs["continuation_parameter"] = kind
+    ds.attrs["folds"] = np.array(branch.folds, dtype=np.int64)
+    ds.attrs["complete"] = int(branch.complete)
+    return ds
+
+
+def _point(coefficients: tuple[np.ndarray, float], n_steps: int, s: np.ndarray) -> list[float]:
+    """[y_min, y_max, N_min, N_max, contact lost, max |λ|, period doubling] of one orbit."""
+    c, period = coefficients
+    _, phi, _, _, summary = propagate(c, s[0], s[1], 0.0, period, n_steps, True)
+    mult = np.linalg.eigvals(phi)
+    modulus = np.abs(mult)
+    flipped = np.any(
+        (modulus > 1.0 + STABILITY_MARGIN)
+        & (mult.real < 0.0)
+        & (np.abs(mult.imag) <= 1e-9 * modulus)
+    )
+    lost = summary[S_FLIGHT] > 0.0 or summary[S_NMIN] <= 0.0
+    return [
+        summary[S_YMIN],
+        summary[S_YMAX],
+        summary[S_NMIN],
+        summary[S_NMAX],
+        float(lost),
+        float(modulus.max()),
+        float(flipped),
+    ]

@@ -1,0 +1,327 @@
+"""The flow map of the forced normal motion over one period, with its variational matrix.
+
+    m ÿ = m g + P(t) - N(δ, δ̇),    δ = y - z(t)        (eq. 2.4 with excitation)
+
+is integrated from t0 over a time T in a FIXED number of equal steps of the 12-stage,
+8th-order Dormand–Prince method (the DOP853 tableau; its 8th-order solution is used
+without error control). Fixed steps make the flow map φ_T(s) a smooth function of the
+initial state and of the parameters (frequency, amplitude), which Newton shooting and
+pseudo-arclength continuation need; an adaptive step sequence would make it jump. The
+8th order keeps the step count low: with ~100 steps per natural period the one-period
+error is near round-off.
+
+The 2×2 variational matrix Φ = ∂φ/∂s is integrated alongside,
+dΦ/dt = [[0, 1], [-(∂N/∂y)/m, -(∂N/∂ẏ)/m]] Φ, with the partials of the model's own law
+(:func:`microslip.model.damping.damped_force_partials`) taken unclipped in contact, as
+the raw law is integrated there, so that Φ is the variation of the field integrated.
+
+Contact switches (touchdown and lift-off, including the separation where N_raw reaches 0
+while δ > 0 with damping) are roots of one switching function, min(δ/y0, N_raw/(m g))
+(δ/y0 alone without damping): contact iff it is > 0. A switch is located inside the step
+by re-stepping the same method from the step start over a fraction θ of it (Illinois
+false position, as :func:`microslip.integrators.switching.locate`), the step is split
+there and finished in the new mode, so the method keeps its order. A double crossing
+inside one step (a short flight or a graze) is found from the extremum of the switching
+function. Where the right-hand side jumps (Kelvin–Voigt touchdown, force jump c δ̇) Φ
+is multiplied by the saltation matrix S = I + (f⁺ - f⁻) ∇gᵀ / (∇g·f⁻ + ∂g/∂t), which for
+g = δ is [[1, 0], [(ÿ⁺ - ÿ⁻)/δ̇, 1]]; the elastic law and Hunt–Crossley have no jump.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numba import njit
+
+from microslip import _jit_cache  # noqa: F401  (registers the cache before any @njit)
+from microslip.integrators.dop853_tableau import N_STAGES
+from microslip.integrators.dop853_tableau import A as _A
+from microslip.integrators.dop853_tableau import B as _B
+from microslip.integrators.dop853_tableau import C as _C
+from microslip.model.coefficients import GRAVITY, MASS, STATIC_DEFLECTION
+from microslip.model.contact import elastic_force, elastic_stiffness
+from microslip.model.damping import can_separate_in_overlap, damped_force_partials
+from microslip.model.excitation import applied_force
+from microslip.model.normal import gap, raw_normal_force
+
+__all__ = ["propagate"]
+
+# Functions located inside a step.
+W_CONTACT = 0  # switching function: > 0 in contact
+W_CONTACT_RATE = 1  # its time derivative (extremum: a possible double crossing)
+W_YDOT = 2  # ẏ (extrema of y)
+W_NRATE = 3  # dN_raw/dt (extrema of N while in contact)
+
+# Slots of the summary returned by propagate().
+S_YMIN = 0
+S_YMAX = 1
+S_NMIN = 2
+S_NMAX = 3
+S_FLIGHT = 4  # 1.0 if the motion left contact somewhere
+S_EVENTS = 5  # number of contact switches
+S_SIZE = 6
+
+_EPS = 2.220446049250313e-16
+_DIM = 6  # y, ẏ, Φ00, Φ01, Φ10, Φ11
+
+
+@njit(cache=True, inline="always")
+def _accel(t, y, yd, c, contact):
+    """ÿ [m/s^2] with the contact mode held fixed (the raw law extended smoothly)."""
+    force = raw_normal_force(t, y, yd, c) if contact else 0.0
+    return c[GRAVITY] + (applied_force(t, c) - force) / c[MASS]
+
+
+@njit(cache=True, inline="always")
+def _raw_partials(t, y, yd, c):
+    """(∂N_raw/∂y [N/m], ∂N_raw/∂ẏ [N s/m]) of the unclipped law that _accel integrates.
+
+    Not the clipped :func:`microslip.model.normal.normal_force_partials`: the late stages
+    of a step that ends on a separation (N_raw = 0) are low-order estimates that can lie
+    just past the switch, where the clipped partials drop to 0 while the contact-mode
+    field integrated there is still the raw law. Φ must be the variation of the field
+    actually integrated, or the monodromy is off by O(step) at every such separation.
+    """
+    delta, delta_rate, _ = gap(t, y, yd, c)
+    return damped_force_partials(
+        elastic_force(delta, c), elastic_stiffness(delta, c), delta_rate, c
+    )
+
+
+@njit(cache=True)
+def _rhs(t, s, c, contact, out):
+    y = s[0]
+    yd = s[1]
+    out[0] = yd
+    out[1] = _accel(t, y, yd, c, contact)
+    k_y, k_v = 0.0, 0.0
+    if contact:
+        k_y, k_v = _raw_partials(t, y, yd, c)
+    m = c[MASS]
+    out[2] = s[4]
+    out[3] = s[5]
+    out[4] = -(k_y * s[2] + k_v * s[4]) / m
+    out[5] = -(k_y * s[3] + k_v * s[5]) / m
+
+
+@njit(cache=True)
+def _step(t, s, h, c, contact, k, tmp, out):
+    """One 8th-order Dormand–Prince step of length h from (t, s) into ``out``."""
+    for i in range(N_STAGES):
+        for d in range(_DIM):
+            acc = 0.0
+            for j in range(i):
+                acc += _A[i, j] * k[j, d]
+            tmp[d] = s[d] + h * acc
+        _rhs(t + _C[i] * h, tmp, c, contact, k[i])
+    for d in range(_DIM):
+        acc = 0.0
+        for i in range(N_STAGES):
+            acc += _B[i] * k[i, d]
+        out[d] = s[d] + h * acc
+
+
+@njit(cache=True)
+def _raw_rate(t, y, yd, c, contact):
+    """dN_raw/dt [N/s] along the motion in the given mode (unclipped)."""
+    delta, delta_rate, zddot = gap(t, y, yd, c)
+    elastic = elastic_force(delta, c)
+    d_delta, d_rate = damped_force_partials(elastic, elastic_stiffness(delta, c), delta_rate, c)
+    return d_delta * delta_rate + d_rate * (_accel(t, y, yd, c, contact) - zddot)
+
+
+@njit(cache=True)
+def _value(which, t, s, c, contact):
+    y = s[0]
+    yd = s[1]
+    if which == W_YDOT:
+        return yd
+    if which == W_NRATE:
+        return _raw_rate(t, y, yd, c, contact)
+    delta, delta_rate, _ = gap(t, y, yd, c)
+    scale_n = c[MASS] * c[GRAVITY]
+    y0 = c[STATIC_DEFLECTION]
+    damped = can_separate_in_overlap(c)
+    if which == W_CONTACT:
+        g = delta / y0
+        if damped:
+            g = min(g, raw_normal_force(t, y, yd, c) / scale_n)
+        return g
+    # W_CONTACT_RATE: the rate of the active branch of the min.
+    if damped and raw_normal_force(t, y, yd, c) / scale_n < delta / y0:
+        return _raw_rate(t, y, yd, c, contact) / scale_n
+    return delta_rate / y0
+
+
+@njit(cache=True)
+def _locate(which, s0, t, h, c, contact, lo, hi, f_lo, f_hi, k, tmp, out):
+    """θ in (lo, hi] where ``which`` changes sign, by re-stepping from s0 (Illinois).
+
+    Returns the first θ known to lie past the sign change, to a few ulps of t.
+    """
+    side_lo = f_lo > 0.0
+    tolerance = 4.0 * _EPS * (abs(t) + abs(h)) / abs(h)
+    retained = 0
+    for _ in range(200):
+        if hi - lo <= tolerance:
+            break
+        theta = hi - f_hi * (hi - lo) / (f_hi - f_lo) if f_hi != f_lo else 0.5 * (lo + hi)
+        if not (lo < theta < hi):
+            theta = 0.5 * (lo + hi)
+        _step(t, s0, theta * h, c, contact, k, tmp, out)
+        f_mid = _value(which, t + theta * h, out, c, contact)
+        if (f_mid > 0.0) == side_lo:
+            lo, f_lo = theta, f_mid
+            if retained == -1:
+                f_hi *= 0.5
+            retained = -1
+        else:
+            hi, f_hi = theta, f_mid
+            if retained == 1:
+                f_lo *= 0.5
+            retained = 1
+    return hi
+
+
+@njit(cache=True)
+def _first_switch(s0, s1, t, h, c, contact, k, tmp, out):
+    """θ of the first contact switch inside the step (2.0 if none)."""
+    f0 = _value(W_CONTACT, t, s0, c, contact)
+    f1 = _value(W_CONTACT, t + h, s1, c, contact)
+    inside = f0 > 0.0
+    if (f1 > 0.0) != inside:
+        return _locate(W_CONTACT, s0, t, h, c, contact, 0.0, 1.0, f0, f1, k, tmp, out)
+    # Same side at both ends: a double crossing needs an extremum of the switching
+    # function inside the step, moving toward zero first and away from it after.
+    r0 = _value(W_CONTACT_RATE, t, s0, c, contact)
+    r1 = _value(W_CONTACT_RATE, t + h, s1, c, contact)
+    toward = (r0 < 0.0 < r1) if inside else (r1 < 0.0 < r0)
+    if not toward:
+        return 2.0
+    if min(abs(f0), abs(f1)) > 2.0 * abs(h) * (abs(r0) + abs(r1)):
+        return 2.0  # the dip cannot reach zero within the step
+    theta_x = _locate(W_CONTACT_RATE, s0, t, h, c, contact, 0.0, 1.0, r0, r1, k, tmp, out)
+    _step(t, s0, theta_x * h, c, contact, k, tmp, out)
+    fx = _value(W_CONTACT, t + theta_x * h, out, c, contact)
+    if (fx > 0.0) != inside:
+        return _locate(W_CONTACT, s0, t, h, c, contact, 0.0, theta_x, f0, fx, k, tmp, out)
+    return 2.0
+
+
+@njit(cache=True)
+def _note_extrema(s0, s1, t, h, c, contact, summary, k, tmp, out):
+    """Update y and N extremes with the values at the interval end and any interior ones."""
+    for s in (s0, s1):
+        summary[S_YMIN] = min(summary[S_YMIN], s[0])
+        summary[S_YMAX] = max(summary[S_YMAX], s[0])
+    r0 = s0[1]
+    r1 = s1[1]
+    if (r0 > 0.0) != (r1 > 0.0) and r0 != 0.0 and r1 != 0.0:
+        theta = _locate(W_YDOT, s0, t, h, c, contact, 0.0, 1.0, r0, r1, k, tmp, out)
+        _step(t, s0, theta * h, c, contact, k, tmp, out)
+        summary[S_YMIN] = min(summary[S_YMIN], out[0])
+        summary[S_YMAX] = max(summary[S_YMAX], out[0])
+    if not contact:
+        summary[S_FLIGHT] = 1.0
+        summary[S_NMIN] = 0.0
+        return
+    for tt, s in ((t, s0), (t + h, s1)):
+        n = max(raw_normal_force(tt, s[0], s[1], c), 0.0)
+        summary[S_NMIN] = min(summary[S_NMIN], n)
+        summary[S_NMAX] = max(summary[S_NMAX], n)
+    q0 = _raw_rate(t, s0[0], s0[1], c, contact)
+    q1 = _raw_rate(t + h, s1[0], s1[1], c, contact)
+    if (q0 > 0.0) != (q1 > 0.0) and q0 != 0.0 and q1 != 0.0:
+        theta = _locate(W_NRATE, s0, t, h, c, contact, 0.0, 1.0, q0, q1, k, tmp, out)
+        _step(t, s0, theta * h, c, contact, k, tmp, out)
+        n = max(raw_normal_force(t + theta * h, out[0], out[1], c), 0.0)
+        summary[S_NMIN] = min(summary[S_NMIN], n)
+        summary[S_NMAX] = max(summary[S_NMAX], n)
+
+
+@njit(cache=True)
+def in_contact(t, y, yd, c):
+    """True when (t, y, ẏ) is in contact: δ > 0 and N_raw > 0."""
+    s = np.zeros(_DIM)
+    s[0] = y
+    s[1] = yd
+    return _value(W_CONTACT, t, s, c, True) > 0.0
+
+
+@njit(cache=True)
+def propagate(c, y_start, yd_start, t0, duration, n_steps, record):
+    """Integrate the normal motion from (t0, y, ẏ) over ``duration`` [s] in n_steps steps.
+
+    Returns (state (2,) at t0 + duration, Φ (2, 2), nodes (4, n) rows t, y, ẏ and
+    node count in the last column unused, accel (2, n-1) rows ÿ at interval starts and
+    ends, summary (S_SIZE,)). Nodes and extremes are filled only when ``record``.
+    """
+    s = np.zeros(_DIM)
+    s[0] = y_start
+    s[1] = yd_start
+    s[2] = 1.0
+    s[5] = 1.0
+    k = np.zeros((N_STAGES, _DIM))
+    tmp = np.zeros(_DIM)
+    out = np.zeros(_DIM)
+    s1 = np.zeros(_DIM)
+    capacity = 3 * n_steps + 8 if record else 1
+    nodes = np.zeros((3, capacity))
+    accel = np.zeros((2, capacity))
+    summary = np.zeros(S_SIZE)
+    summary[S_YMIN] = np.inf
+    summary[S_YMAX] = -np.inf
+    summary[S_NMIN] = np.inf
+    summary[S_NMAX] = 0.0
+    contact = in_contact(t0, y_start, yd_start, c)
+    count = 0
+    if record:
+        nodes[0, 0] = t0
+        nodes[1, 0] = y_start
+        nodes[2, 0] = yd_start
+    h_grid = duration / n_steps
+    t = t0
+    for step in range(n_steps):
+        t_end = t0 + (step + 1) * h_grid if step < n_steps - 1 else t0 + duration
+        for _split in range(64):
+            h = t_end - t
+            if h <= 0.0:
+                break
+            _step(t, s, h, c, contact, k, tmp, s1)
+            theta = _first_switch(s, s1, t, h, c, contact, k, tmp, out)
+            switched = theta <= 1.0
+            if switched:
+                _step(t, s, theta * h, c, contact, k, tmp, s1)
+                t_new = t + theta * h
+            else:
+                t_new = t_end
+            if record:
+                accel[0, count] = _accel(t, s[0], s[1], c, contact)
+                accel[1, count] = _accel(t_new, s1[0], s1[1], c, contact)
+                _note_extrema(s, s1, t, t_new - t, c, contact, summary, k, tmp, out)
+                count += 1
+                nodes[0, count] = t_new
+                nodes[1, count] = s1[0]
+                nodes[2, count] = s1[1]
+            s[:] = s1
+            t = t_new
+            if not switched:
+                break
+            # Saltation for g = δ: S = [[1, 0], [(ÿ⁺ - ÿ⁻)/δ̇, 1]] (0 where ÿ is continuous).
+            before = _accel(t, s[0], s[1], c, contact)
+            contact = not contact
+            after = _accel(t, s[0], s[1], c, contact)
+            summary[S_EVENTS] += 1.0
+            delta_rate = gap(t, s[0], s[1], c)[1]
+            if after != before and delta_rate != 0.0:
+                factor = (after - before) / delta_rate
+                s[4] += factor * s[2]
+                s[5] += factor * s[3]
+    state = s[:2].copy()
+    phi = np.empty((2, 2))
+    phi[0, 0] = s[2]
+    phi[0, 1] = s[3]
+    phi[1, 0] = s[4]
+    phi[1, 1] = s[5]
+    if record:
+        return state, phi, nodes[:, : count + 1].copy(), accel[:, :count].copy(), summary
+    return state, phi, nodes[:, :1].copy(), accel[:, :0].copy(), summary
