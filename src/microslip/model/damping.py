@@ -44,7 +44,20 @@ def damping_coefficient(params: Parameters, ratio: float) -> float:
 
 
 @dataclass(frozen=True)
-class Viscous(Part):
+class _RatioDamping(Part):
+    """A damping law set by its damping ratio ζ at the working point."""
+
+    slot: ClassVar[str] = "damping"
+    kind: ClassVar[float]
+    ratio: float = part_field(0.0, "1", "damping ratio zeta at the working point", 0.0, MAX_RATIO)
+
+    def pack(self, c: np.ndarray, params: Parameters) -> None:
+        c[DAMPING_KIND] = self.kind
+        c[DAMPING_COEFFICIENT] = damping_coefficient(params, self.ratio)
+
+
+@dataclass(frozen=True)
+class Viscous(_RatioDamping):
     """Kelvin–Voigt damping, N = S c_n δ^m2 + c δ̇ (clipped at 0).
 
     Attributes
@@ -54,17 +67,11 @@ class Viscous(Part):
         c = 2 ζ sqrt(K_n m); in [0, 10].
     """
 
-    slot: ClassVar[str] = "damping"
     kind: ClassVar[float] = VISCOUS
-    ratio: float = part_field(0.0, "1", "damping ratio zeta at the working point", 0.0, MAX_RATIO)
-
-    def pack(self, c: np.ndarray, params: Parameters) -> None:
-        c[DAMPING_KIND] = self.kind
-        c[DAMPING_COEFFICIENT] = damping_coefficient(params, self.ratio)
 
 
 @dataclass(frozen=True)
-class HuntCrossley(Part):
+class HuntCrossley(_RatioDamping):
     """Hunt–Crossley damping, N = S c_n δ^m2 (1 + c δ̇ / (m g)) (clipped at 0).
 
     Attributes
@@ -74,13 +81,7 @@ class HuntCrossley(Part):
         c = 2 ζ sqrt(K_n m); in [0, 10].
     """
 
-    slot: ClassVar[str] = "damping"
     kind: ClassVar[float] = HUNT_CROSSLEY
-    ratio: float = part_field(0.0, "1", "damping ratio zeta at the working point", 0.0, MAX_RATIO)
-
-    def pack(self, c: np.ndarray, params: Parameters) -> None:
-        c[DAMPING_KIND] = self.kind
-        c[DAMPING_COEFFICIENT] = damping_coefficient(params, self.ratio)
 
 
 @njit(cache=True, inline="always")
