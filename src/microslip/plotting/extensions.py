@@ -202,7 +202,10 @@ def contact_loss_figure(params: Parameters) -> tuple[Figure, xr.Dataset]:
     force = LOSS_FORCING * _weight_ratio(params)
     model = Model(params, Viscous(LOSS_RATIO), HarmonicForce(force, frequency))
     drive = figure_scales(params).drive
-    result = ms.simulate(model, force=drive, duration=LOSS_PERIODS / frequency)
+    duration = LOSS_PERIODS / frequency
+    # Dense samples (the event method's own steps are a few per period: a polygon).
+    samples = np.linspace(0.0, duration, 200 * LOSS_PERIODS + 1)
+    result = ms.simulate(model, force=drive, duration=duration, t_eval=samples)
     t_ms = result.t * 1e3
     flight = np.asarray(result.state) == FLIGHT  # δ <= 0 or N_raw <= 0
     fig = Figure(figsize=(8.0, 7.5), layout="constrained")
