@@ -27,9 +27,9 @@ energy dissipated by the damping law (∫ D δ̇ dt over contact, D = N_raw − 
 and ∫ S c_n δ^m2 δ̇ dt over contact (zero over a period unless the body separates while
 δ > 0, where the elastic energy stored in the overlap is given up).
 
-The tangential extension (rigid contact, Coulomb friction, constant F > 0) adds
-ξ = x/y0 with ξ'' = φ − μ r (sliding forward, φ = F/(m g)) or ξ' = 0 (stick while
-μ r >= φ, eq. 2.2), the stick→slip and slip→stop switches located as events too.
+Node tables of one period (t, y, ẏ, ÿ at equally spaced nodes) serve the tests of the
+reflected process. The tangential motion on top of this normal motion is
+``sliding_reference.py``.
 """
 
 from __future__ import annotations
@@ -44,7 +44,6 @@ from scipy.integrate import solve_ivp
 RTOL = 1e-12
 ATOL = 1e-14
 _MAX_SEGMENTS = 200_000
-_STOP_OFFSET = 1e-15  # a release leaves ξ' = −1e-18 by rounding: not a stop
 
 # Quadrature slots (after η, η'): ∫r dτ, ∫p η' dτ, −∫r zs' dτ, ∫d e' dτ, ∫el e' dτ
 Q_N, Q_P, Q_BASE, Q_DISS, Q_ELASTIC = range(2, 7)
@@ -65,6 +64,8 @@ class Segmented:
 
 class NormalReference:
     """The normal motion of a ``Model`` in scaled variables (see the module docstring)."""
+
+    dim = 2  # scaled state (η, η')
 
     def __init__(self, model, *, rtol: float = RTOL, atol: float = ATOL) -> None:
         p = model.params
@@ -165,6 +166,14 @@ class NormalReference:
     def _f2(self, tau, u, contact):
         r = self.raw(tau, u)[0] if contact else 0.0
         return np.array([u[1], 1.0 + self.p(tau) - r])
+
+    def load(self, tau: float, u, contact: bool) -> float:
+        """r = N/(m g) in the given contact mode."""
+        return max(0.0, self.raw(tau, u)[0]) if contact else 0.0
+
+    def normal_rhs(self, tau: float, u, contact: bool) -> list[float]:
+        """(η', η'') in the given contact mode."""
+        return [u[1], 1.0 + self.p(tau) - self.load(tau, u, contact)]
 
     def rhs(self, contact: bool, quad: bool):
         def f(tau, u):
@@ -315,6 +324,39 @@ class NormalReference:
     def multipliers(self, u) -> np.ndarray:
         return np.linalg.eigvals(self.monodromy(u))
 
+    def table(self, u, tau_period: float, intervals: int):
+        """Node arrays (t [s], y [m], ẏ [m/s], ÿ [m/s^2]) at ``intervals`` + 1 equally
+        spaced nodes over [0, τ_period] from the scaled state u at τ = 0; the contact must
+        hold all along (checked)."""
+        tau = np.linspace(0.0, tau_period, intervals + 1)
+        run = self.integrate(0.0, u, tau_period, tau_eval=tau)
+        if run.events:
+            raise RuntimeError("table: the contact must hold over the whole period")
+        states = np.concatenate(run.samples_u).T
+        states[:, 0] = u[:2]
+        accel = np.array([self.normal_rhs(tt, states[:, i], True)[1] for i, tt in enumerate(tau)])
+        w = self.omega
+        return tau / w, states[0] * self.y0, states[1] * self.y0 * w, accel * self.y0 * w * w
+
+
+def free_vibration_table(params, amplitude: float, intervals: int = 1024, **tolerances):
+    """One period of the paper's free vibration from rest at the top y0 − A (A < y0): the
+    period is twice the time to the lowest point (the orbit is symmetric about it)."""
+    from microslip import Model
+
+    ref = NormalReference(Model(params), **tolerances)
+    u0 = np.array([1.0 - amplitude / ref.y0, 0.0])
+    run = ref.integrate(0.0, u0, 2.0 * ref.natural_tau, extrema=True)
+    bottom = next(t for t, eta in run.extrema if t > 0.0 and eta > 1.0)
+    return ref.table(u0, 2.0 * bottom, intervals)
+
+
+def forced_table(model, intervals: int = 512, **tolerances):
+    """One period of the steady orbit of ``model`` reached from rest at y0 (200 periods,
+    then Newton on the stroboscopic map)."""
+    ref = NormalReference(model, **tolerances)
+    return ref.table(ref.steady_orbit(periods=200), ref.period_tau, intervals)
+
 
 def linear_amplitude(k_n: float, mass: float, c: float, p0: float, f: float) -> float:
     """P0 / sqrt((K_n − m ω²)² + (c ω)²) [m] (MODEL.md identity 3)."""
@@ -327,102 +369,6 @@ def base_linear_amplitude(k_n: float, mass: float, c: float, z0: float, f: float
     base motion z = Z sin ωt of the linear contact (m ẍ + c ẋ + K_n x = K_n z + c ż)."""
     w = 2.0 * math.pi * f
     return z0 * math.hypot(k_n, c * w) / math.hypot(k_n - mass * w * w, c * w)
-
-
-# -- sliding on the forced contact (rigid tangential contact, Coulomb, F > 0) ------------
-class SlidingReference:
-    """Normal + tangential motion, every switch located: state (η, η', ξ, ξ')."""
-
-    def __init__(self, normal: NormalReference, force: float) -> None:
-        if force <= 0.0:
-            raise ValueError("SlidingReference: F > 0 only")
-        self.n = normal
-        self.phi = force / (normal.m * normal.g)
-        self.mu = normal.mu
-
-    def _r(self, tau, v, contact):
-        return max(0.0, self.n.raw(tau, v)[0]) if contact else 0.0
-
-    def run(self, u0, tau1: float) -> list[tuple[float, str, float]]:
-        """Integrate from (η, η', 0, 0) at τ = 0 to τ1; the stick starts as (τ, kind, ξ)."""
-        n = self.n
-        u = np.array([u0[0], u0[1], 0.0, 0.0])
-        tau = 0.0
-        contact = n.in_contact(tau, u)
-        stuck = self.mu * self._r(tau, u, contact) >= self.phi
-        events_out: list[tuple[float, str, float]] = []
-        segments = 0
-        while tau < tau1:
-
-            def f(t, v, contact=contact, stuck=stuck):
-                r = n.raw(t, v)[0] if contact else 0.0
-                acc = 0.0 if stuck else self.phi - self.mu * r
-                return [v[1], 1.0 + n.p(t) - r, 0.0 if stuck else v[3], acc]
-
-            def switch(t, v):
-                return n.indicator(t, v)
-
-            switch.terminal = True
-            switch.direction = -1.0 if contact else 1.0
-            events = [switch]
-            if stuck:
-
-                def release(t, v, contact=contact):
-                    return self.mu * self._r(t, v, contact) - self.phi
-
-                release.terminal, release.direction = True, -1.0
-                events.append(release)
-            else:
-
-                def stop(t, v):
-                    return v[3] + _STOP_OFFSET
-
-                stop.terminal, stop.direction = True, -1.0
-                events.append(stop)
-            sol = solve_ivp(
-                f, (tau, tau1), u, method="DOP853", rtol=n.rtol, atol=n.atol, events=events,
-                max_step=n.max_step,
-            )  # fmt: skip
-            if sol.status < 0:
-                raise RuntimeError(sol.message)
-            segments += 1
-            if segments > _MAX_SEGMENTS:
-                raise RuntimeError("sliding reference: too many segments")
-            if sol.status == 0:
-                tau, u = float(sol.t[-1]), sol.y[:, -1].copy()
-                break
-            which = min(
-                (j for j in range(len(events)) if sol.t_events[j].size),
-                key=lambda j: sol.t_events[j][0],
-            )
-            tau = float(sol.t_events[which][0])
-            u = np.array(sol.y_events[which][0], dtype=float)
-            if which == 0:
-                contact = not contact
-                if stuck and self.mu * self._r(tau, u, contact) < self.phi:
-                    stuck = False
-            elif stuck:
-                stuck = False
-            else:
-                u[3] = 0.0
-                if self.mu * self._r(tau, u, contact) >= self.phi:
-                    stuck = True
-                    events_out.append((tau, "stick", float(u[2])))
-        return events_out
-
-    def mean_velocity(self, u_periodic, periods: int = 6) -> float:
-        """Steady mean velocity [m/s] from a periodic normal state at τ = 0: Δξ/Δτ between
-        the second stick start and the last one a whole number of periods later."""
-        n = self.n
-        sticks = self.run(u_periodic, periods * n.period_tau)
-        if len(sticks) < 3:
-            raise RuntimeError(f"sliding reference: only {len(sticks)} sticks")
-        t_a, _, x_a = sticks[1]
-        for t_b, _, x_b in reversed(sticks[2:]):
-            whole = (t_b - t_a) / n.period_tau
-            if abs(whole - round(whole)) < 1e-6 and round(whole) >= 1:
-                return (x_b - x_a) / (t_b - t_a) * n.y0 * n.omega
-        raise RuntimeError("sliding reference: sticks not periodic")
 
 
 # -- the folded resonance curve of the tests (paper data, softening m2 = 2) -----------------

@@ -1,8 +1,8 @@
 """MODEL.md identity 5: the steady mean velocity from one period of a periodic normal orbit.
 
 References shared with microslip: none. Normal orbits come from scipy's DOP853
-(``normal_tables.py``); the tangential references integrate the whole system with every
-stick and slip located as solver events (``event_driven_mean_velocity``), or are the
+(``forced_reference.py``); the tangential references integrate the whole system with every
+stick and slip located as solver events (``sliding_reference.py``), or are the
 independent reflected-process walk of ``reflected_process.py`` (paper's free vibration).
 """
 
@@ -12,13 +12,9 @@ import math
 
 import numpy as np
 import pytest
-from normal_tables import (
-    Normal,
-    event_driven_mean_velocity,
-    forced_table,
-    free_vibration_table,
-)
+from forced_reference import NormalReference, forced_table, free_vibration_table
 from reflected_process import reflected_cycle
+from sliding_reference import SlidingReference, kinematic_mean_velocity
 
 import microslip as ms
 from microslip.analysis.forced_sliding import mean_velocities, sliding_table, slip_intervals
@@ -26,11 +22,13 @@ from microslip.analysis.steady_state import mean_velocity
 
 P = ms.Parameters()
 ZETA, P0, FREQ = 0.05, 0.5, 1400.0
+MODEL = ms.Model(P, damping=ms.Viscous(ZETA), excitation=ms.HarmonicForce(P0, FREQ))
+TABLE_TOL = {"rtol": 1e-13, "atol": 1e-15}  # scipy tolerances of the node tables
 
 
 @pytest.mark.parametrize("amplitude", [1e-7, 2e-7])
 def test_free_vibration_reproduces_the_paper_closed_form(amplitude):
-    t, y, v, a = free_vibration_table(P, amplitude, 1024)
+    t, y, v, a = free_vibration_table(P, amplitude, 1024, **TABLE_TOL)
     table = sliding_table(t, y, v, a[:-1], a[1:], mass=P.mass, gravity=P.g)
     forces = np.array([0.3, 0.6, 0.9])
     mine = mean_velocities(table, P.mu, forces)
@@ -43,24 +41,23 @@ def test_free_vibration_reproduces_the_paper_closed_form(amplitude):
 
 
 def _forced_reference(force, periods=10):
-    normal = Normal(P, zeta=ZETA, force_amplitude=P0, frequency=FREQ)
-    tau_period = 2.0 * math.pi / normal.big_omega
-    u = normal.solve([1.0, 0.0], 120 * tau_period).y[:, -1]  # past the normal transient
-    value, releases = event_driven_mean_velocity(
-        normal.rhs, lambda t, u: normal.n(t, *u), u, tau_period, phi=force / (P.mass * P.g),
-        mu=P.mu, skip=2, measure=periods, atol=1e-14,
-    )  # fmt: skip
+    tau_period = NormalReference(MODEL).period_tau
+    u = NormalReference(MODEL, **TABLE_TOL).settle([1.0, 0.0], 120)  # past the transient
+    normal = NormalReference(MODEL, rtol=1e-12, atol=1e-14)
+    value, releases = SlidingReference(normal, force).window_mean_velocity(
+        [*u, 0.0, 0.0], 2 * tau_period, (2 + periods) * tau_period
+    )
     return value * normal.y0 * normal.omega, releases
 
 
 def test_harmonic_force_matches_a_long_event_driven_integration():
-    model = ms.Model(P, damping=ms.Viscous(ZETA), excitation=ms.HarmonicForce(P0, FREQ))
+    model = MODEL
     force = 0.8  # μ N_min = 0.648 N: F = 0.5 N would never slide (checked below)
     reference, releases = _forced_reference(force)
     assert releases == 10  # one slip per period
     assert ms.mean_velocity(model, force=force) == pytest.approx(reference, rel=1e-8)
     # The reflected process on an independent scipy table agrees too.
-    t, y, v, a = forced_table(P, zeta=ZETA, force_amplitude=P0, frequency=FREQ)
+    t, y, v, a = forced_table(MODEL, 512, **TABLE_TOL)
     table = sliding_table(
         t, y, v, a[:-1], a[1:], mass=P.mass, gravity=P.g, force_amplitude=P0,
         omega=2.0 * math.pi * FREQ,
@@ -73,12 +70,9 @@ def test_harmonic_force_matches_a_long_event_driven_integration():
 def _kinematic_reference(load, period, force, mu, periods=4):
     """Event-driven x(t) slope under a normal force N(t) known in closed form (no normal
     state), in the scales t/T and x/(g T^2)."""
-    g_t2 = P.g * period * period
-    value, releases = event_driven_mean_velocity(
-        lambda s, u: (0.0,), lambda s, u: load(s * period) / (P.mass * P.g), [0.0], 1.0,
-        phi=force / (P.mass * P.g), mu=mu, skip=2, measure=periods, atol=1e-15,
-    )  # fmt: skip
-    return value * g_t2 / period, releases
+    return kinematic_mean_velocity(
+        load, period, force=force, mass=P.mass, g=P.g, mu=mu, skip=2, measure=periods
+    )
 
 
 @pytest.mark.parametrize("beta", [0.5, 1.5])

@@ -1,7 +1,7 @@
 """MODEL.md identity 5 under excitation: ``mean_velocity(model, force=0.5)`` on the stable
 periodic orbit against a long event-driven scipy simulation of the full system.
 
-The reference (``forced_reference.SlidingReference``) integrates normal + tangential
+The reference (``sliding_reference.SlidingReference``) integrates normal + tangential
 motion together (rigid tangential contact, Coulomb μ, constant F), with every contact,
 stick→slip (μ N falls to F) and slip→stop (ẋ = 0) switch a terminal event, from the
 normal steady state reached from rest (the scipy fixed point) with the slider at rest;
@@ -12,7 +12,8 @@ the 12-period value differs by 4e-13 relative). Viscous ζ = 0.05, P0 = 3 N at 0
 """
 
 import pytest
-from forced_reference import NormalReference, SlidingReference
+from forced_reference import NormalReference
+from sliding_reference import SlidingReference
 
 import microslip as ms
 

@@ -252,7 +252,10 @@ def mean_velocity(
         ``RuntimeWarning`` when F > μ m g (no steady state; for a prescribed
         penetration the limit is μ times the mean normal force). Where the forced
         response reached is not period-1 the value is a time average of a simulation
-        (``RuntimeWarning`` says so).
+        from rest, the x advance over excitation periods 100 to 200 (``RuntimeWarning``
+        says so): exact for a steady response of period 1 or 2 (a whole number of its
+        periods), up to what is left of the transient after 100 periods (4e-6 to 9e-6
+        relative for the period-2 case of tests/validation/test_period_doubling.py).
     """
     model = as_model(model_or_params)
     if model.excitation is None:
