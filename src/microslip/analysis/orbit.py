@@ -17,9 +17,10 @@ import numpy as np
 from numba import njit
 
 from microslip import _jit_cache  # noqa: F401  (registers the cache before any @njit)
-from microslip.integrators.methods import DP54, advance
+from microslip.integrators.methods import DP54, WORK_ROWS, advance
 from microslip.model.coefficients import AREA_CN, EXPONENT, GRAVITY, MASS
 from microslip.model.contact import normal_acceleration
+from microslip.model.system import N_STATE, YDOT, Y
 
 # Summary slots of an orbit.
 O_TOP = 0  # y at the highest point [m]
@@ -29,8 +30,6 @@ O_NODES = 3  # number of table nodes
 O_HALF = 4  # half period T/2 [s]
 O_BOTTOM = 5  # y at the lowest point [m]
 O_SIZE = 6
-
-_ONES = np.ones(4)
 
 
 @njit(cache=True)
@@ -99,24 +98,30 @@ def build_half_orbit(amplitude, c, steps_per_half, ys, yds, summary):
     y_bottom = lowest_point(y_top, c)
     stiffness = c[EXPONENT] * c[AREA_CN] * y_bottom ** (c[EXPONENT] - 1.0)
     h = math.pi / (math.sqrt(stiffness / c[MASS]) * steps_per_half)
+    # The normal motion in the model's state (x, ẋ stay 0 in stick, mode 0).
+    s = np.zeros(N_STATE)
     if y_top < 0.0:
         t_flight = math.sqrt(-2.0 * y_top / g)
-        s = (0.0, g * t_flight, 0.0, 0.0)
+        s[YDOT] = g * t_flight
     else:
         t_flight = 0.0
-        s = (y_top, 0.0, 0.0, 0.0)
+        s[Y] = y_top
+    s_next = np.empty(N_STATE)
+    work = np.empty((WORK_ROWS, N_STATE))
+    atol = np.ones(N_STATE)  # fixed steps: the error norm is not used
     capacity = ys.shape[0]
-    ys[0] = s[0]
-    yds[0] = s[1]
+    ys[0] = s[Y]
+    yds[0] = s[YDOT]
     n = 1
     while True:
         if n >= capacity:
             return False
-        s, _err = advance(DP54, s, 0.0, h, 0.0, c, 1.0, _ONES)
-        ys[n] = s[0]
-        yds[n] = s[1]
+        advance(DP54, s, 0.0, h, 0.0, c, 1.0, atol, s_next, work)
+        s, s_next = s_next, s
+        ys[n] = s[Y]
+        yds[n] = s[YDOT]
         n += 1
-        if s[1] <= 0.0:
+        if s[YDOT] <= 0.0:
             break
     # The bottom (ẏ = 0) lies in the last interval: bisect the interpolated slope.
     a0 = normal_acceleration(ys[n - 2], 0.0, c)

@@ -67,17 +67,12 @@ from numba import njit, parallel_chunksize, prange
 
 from microslip import _jit_cache  # noqa: F401  (registers the cache before any @njit)
 from microslip.integrators import paper_pass as pp
-from microslip.integrators.kernel import (
-    MAX_SWITCHES_PER_STEP,
-    SCRATCH_ROWS,
-    as_tuple,
-    copy_state,
-    piece_end,
-)
+from microslip.integrators.kernel import MAX_SWITCHES_PER_STEP, as_tuple, copy_state, piece_end
 from microslip.integrators.methods import RK4, WORK_ROWS
 from microslip.integrators.steppers import rk4_step
+from microslip.integrators.switching import NO_SWITCH, may_switch
 from microslip.model.coefficients import SIZE
-from microslip.model.system import N_STATE, X, apply_switch, initial_mode
+from microslip.model.system import N_STATE, X, apply_switch, initial_mode, state_tuple
 
 __all__ = ["DEFAULT_BLOCK", "BatchResult", "simulate_batch", "time_grid"]
 
@@ -114,7 +109,7 @@ def time_grid(t_end, dt):
 
 
 @njit(cache=True)
-def _scalar_step(s, mode, t, target, c, s1, have_s1, piece, scratch, work, atol):
+def _scalar_step(s, mode, t, target, c, s1, have_s1, piece, trial, extremum, work, atol):
     """integrate_chunk's RK4 loop body from (t, s) up to the grid point ``target``.
 
     ``s`` (updated in place) is the lane's state; ``s1``: when ``have_s1``,
@@ -129,7 +124,13 @@ def _scalar_step(s, mode, t, target, c, s1, have_s1, piece, scratch, work, atol)
             reuse = False
         else:
             rk4_step(s, t, h, mode, c, s1, work)
-        theta, which = piece_end(RK4, s, s1, t, h, mode, c, 1.0, atol, piece, scratch, work)
+        if may_switch(t, h, mode, c, state_tuple(s), state_tuple(s1)):
+            theta, which = piece_end(
+                RK4, s, s1, t, h, mode, c, 1.0, atol, piece, trial, extremum, work
+            )
+        else:
+            theta, which = NO_SWITCH, -1
+            copy_state(s1, piece)
         t_piece = t + theta * h if which >= 0 and theta < 1.0 else target
         if which >= 0:
             switches += 1
@@ -155,7 +156,8 @@ def _run_blocks(coeffs, states, directions, times, switches, flagged, status, gr
         s = np.empty(N_STATE)
         s1 = np.empty(N_STATE)
         piece = np.empty(N_STATE)
-        scratch = np.empty((SCRATCH_ROWS, N_STATE))
+        trial = np.empty(N_STATE)
+        extremum = np.empty(N_STATE)
         work = np.empty((WORK_ROWS, N_STATE))
         atol = np.zeros(N_STATE)  # unused by RK4
         variant = pp._UNIT_MASS
@@ -185,16 +187,24 @@ def _run_blocks(coeffs, states, directions, times, switches, flagged, status, gr
                     for j in range(N_STATE):
                         s[j] = buf[pp._S + j, i]
                         s1[j] = buf[pp._S1 + j, i]
-                    c = local_coeffs[i]
                     mode = buf[pp._DIR, i]
-                    # (the laws take the coefficients as a tuple: see kernel.as_tuple)
+                    # The laws take the coefficients as a tuple (see kernel.as_tuple).
+                    c = as_tuple(local_coeffs[i])
+                    if reuse and not may_switch(
+                        t_lane, h, mode, c, state_tuple(s), state_tuple(s1)
+                    ):
+                        # A flag the core screening clears: _scalar_step would take s1 as
+                        # it is. Decided here, without a compiled call that takes arrays.
+                        for j in range(N_STATE):
+                            buf[pp._S + j, i] = s1[j]
+                        continue
                     d, t_lane, nsw, stalled = _scalar_step(
-                        s, mode, t_lane, target, as_tuple(c), s1, reuse, piece, scratch, work, atol
+                        s, mode, t_lane, target, c, s1, reuse, piece, trial, extremum, work, atol
                     )
                     for j in range(N_STATE):
                         buf[pp._S + j, i] = s[j]
                     if d != mode:
-                        pp.set_mode(buf, i, d, c)
+                        pp.set_mode(buf, i, d, local_coeffs[i])
                     buf[pp._T, i] = -1.0 if t_lane == target else t_lane
                     n_switch[i] += nsw
                     if stalled:  # frozen where it stalled; reported by the caller

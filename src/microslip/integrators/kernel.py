@@ -4,6 +4,16 @@ One compiled loop serves every method: fixed-step RK4 on the grid t0 + k·dt, an
 adaptive Dormand–Prince pairs. It fills caller-owned output buffers and returns when
 they are full, so the Python driver can stream a long run in bounded memory. The state
 is an array of any size; the model (:mod:`microslip.model.system`) gives it meaning.
+
+Speed. A compiled function that takes arrays reference-counts them (atomic increments
+and decrements of the arrays' counters) on entry and exit unless numba can prove the
+pair useless, which it cannot once the function calls other compiled functions or has
+a raising branch; a row view (``work[0]``) is counted too, as are the arguments of a
+function inlined by numba. A common step therefore makes no such call: the steps are
+called directly (not through ``advance``), have the model inlined and no raising branch
+(error_model="numpy"), and the switching screen
+(:func:`~microslip.integrators.switching.may_switch`) takes state tuples; the arrays go
+to the locating (:func:`piece_end`) only when a switch may be inside the step.
 """
 
 from __future__ import annotations
@@ -13,10 +23,12 @@ from numba import njit
 from numba.np.unsafe.ndarray import to_fixed_tuple
 
 from microslip import _jit_cache  # noqa: F401  (registers the cache before any @njit)
-from microslip.integrators.methods import CONTROLLER_EXPONENT, RK4, WORK_ROWS, advance
-from microslip.integrators.switching import first_switch
+from microslip.integrators.dop853 import dop853_step
+from microslip.integrators.methods import CONTROLLER_EXPONENT, DP54, RK4, WORK_ROWS, advance
+from microslip.integrators.steppers import dp54_step, rk4_step
+from microslip.integrators.switching import NO_SWITCH, first_switch, may_switch
 from microslip.model.coefficients import SIZE
-from microslip.model.system import NO_EVENT, apply_switch
+from microslip.model.system import NO_EVENT, apply_switch, state_tuple
 
 # Slots of the carry vector that holds the loop state between calls; the state follows.
 C_T, C_MODE, C_H, C_K, C_BOUNDARY, C_TEVAL, C_T0, C_STEPS, C_REJECTS = range(9)
@@ -30,10 +42,6 @@ STALLED = 3
 STEP_UNDERFLOW = 4
 
 MAX_SWITCHES_PER_STEP = 64
-
-# Rows of the scratch array of :func:`piece_end` and its callers.
-S_TRIAL, S_EXTREMUM = 0, 1
-SCRATCH_ROWS = 2
 
 
 def carry_size(n_state: int) -> int:
@@ -54,17 +62,16 @@ def copy_state(src, dst):
 
 
 @njit(cache=True)
-def piece_end(method, s, s1, t, h, mode, c, rtol, atol, piece, scratch, work):
+def piece_end(method, s, s1, t, h, mode, c, rtol, atol, piece, trial, extremum, work):
     """The first switch in the trial step (t, s) -> (t + h, s1) and the state there.
 
     Writes into ``piece`` the state at the end of the piece: at the switch, or ``s1``
     when the step holds none. Returns (θ, which) as
     :func:`~microslip.integrators.switching.first_switch`. The one piece of loop body
-    shared by :func:`integrate_chunk` and the batched kernel.
+    shared by :func:`integrate_chunk` and the batched kernel, which call it only when
+    :func:`~microslip.integrators.switching.may_switch` says a switch may be inside.
     """
-    theta, which = first_switch(
-        method, s, s1, t, h, mode, c, rtol, atol, scratch[S_TRIAL], scratch[S_EXTREMUM], work
-    )
+    theta, which = first_switch(method, s, s1, t, h, mode, c, rtol, atol, trial, extremum, work)
     if which >= 0 and theta < 1.0:
         advance(method, s, t, theta * h, mode, c, rtol, atol, piece, work)
     else:
@@ -72,7 +79,7 @@ def piece_end(method, s, s1, t, h, mode, c, rtol, atol, piece, scratch, work):
     return theta, which
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True)  # not inlined: the arguments of an inlined function are counted
 def _write(out_t, out_s, out_mode, n, t, s, mode):
     out_t[n] = t
     for j in range(s.shape[0]):
@@ -106,7 +113,8 @@ def integrate_chunk(
     s1 = np.empty(n_state)
     piece = np.empty(n_state)
     s_eval = np.empty(n_state)
-    scratch = np.empty((SCRATCH_ROWS, n_state))
+    trial = np.empty(n_state)
+    extremum = np.empty(n_state)
     work = np.empty((WORK_ROWS, n_state))
     t = carry[C_T]
     mode = carry[C_MODE]
@@ -139,7 +147,14 @@ def integrate_chunk(
             if target >= t_end:
                 h = t_end - t
                 target = t_end
-        err = advance(method, s, t, h, mode, c, rtol, atol, s1, work)
+        # The steps called directly, not through ``advance`` (module doc, "Speed").
+        if method == RK4:
+            rk4_step(s, t, h, mode, c, s1, work)
+            err = 0.0
+        elif method == DP54:
+            err = dp54_step(s, t, h, mode, c, rtol, atol, s1, work)
+        else:
+            err = dop853_step(s, t, h, mode, c, rtol, atol, s1, work)
         if method != RK4 and not err <= 1.0:
             n_rejects += 1
             factor = 0.2 if err != err else max(0.2, 0.9 * err**exponent)
@@ -148,7 +163,13 @@ def integrate_chunk(
                 status = STEP_UNDERFLOW
                 break
             continue
-        theta, which = piece_end(method, s, s1, t, h, mode, c, rtol, atol, piece, scratch, work)
+        if may_switch(t, h, mode, c, state_tuple(s), state_tuple(s1)):
+            theta, which = piece_end(
+                method, s, s1, t, h, mode, c, rtol, atol, piece, trial, extremum, work
+            )
+        else:
+            theta, which = NO_SWITCH, -1
+            copy_state(s1, piece)
         t_piece = t + theta * h if which >= 0 and theta < 1.0 else target
         if use_t_eval:
             # A time equal to the piece end is written by the next piece (or the final

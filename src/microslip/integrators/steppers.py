@@ -3,9 +3,13 @@
 A state is a float64 array of any length (its meaning is the model's business:
 :mod:`microslip.model.system`); ``mode`` is the model's opaque mode, held fixed within
 a step: switching instants are located around these steps, never hidden inside them.
-The steps write the new state into ``out`` (which must not be ``s``) and use the rows
-of ``work`` (a C-contiguous 2-D array of at least :data:`WORK_ROWS` rows of the state
-size) for their stages, so that no step allocates.
+The steps write the new state into ``out`` (which must not be ``s``; it also holds the
+stage inputs), so that no step allocates. The model's :func:`derivatives` takes the
+state as a tuple (:func:`~microslip.model.system.state_tuple`) and returns one: inside
+a step no array crosses a compiled call, where it would be reference-counted (atomic
+operations, dearer than the laws). ``work`` (a C-contiguous 2-D array of at least
+:data:`WORK_ROWS` rows of the state size) holds the stages of DOP853; its rows are
+indexed, never taken as views (a view is reference-counted too).
 """
 
 from __future__ import annotations
@@ -15,35 +19,47 @@ import math
 from numba import njit
 
 from microslip import _jit_cache  # noqa: F401  (registers the cache before any @njit)
-from microslip.model.system import derivatives
+from microslip.model.system import derivatives, state_tuple
 
-# Rows of ``work`` a step may use (DOP853: 12 stages and one stage input).
-WORK_ROWS = 13
+# Rows of ``work`` a step may use (DOP853: 12 stages).
+WORK_ROWS = 12
+
+# The steps call the model from one place (a loop over the stages), where numba inlines
+# it, and are compiled with error_model="numpy" (no ZeroDivisionError branch): a step
+# then makes no compiled call and has no raising branch, so numba drops the reference
+# counting of its array arguments. The divisions are by the mass (> 0) and, in the error
+# norms, by atol_i + rtol·max(|s_i|, |out_i|); with atol_i = 0 and a component that
+# stays exactly 0 the norm is NaN and the adaptive loop rejects the step (it raised
+# ZeroDivisionError before).
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def rk4_step(s, t, h, mode, c, out, work):
     """Classical 4th-order Runge–Kutta step of length h [s] (the paper's method)."""
-    n = s.shape[0]
-    k1 = work[0]
-    k2 = work[1]
-    k3 = work[2]
-    k4 = work[3]
-    tmp = work[4]
-    derivatives(t, s, mode, c, k1)
     hh = 0.5 * h
-    for i in range(n):
-        tmp[i] = s[i] + hh * k1[i]
-    derivatives(t + hh, tmp, mode, c, k2)
-    for i in range(n):
-        tmp[i] = s[i] + hh * k2[i]
-    derivatives(t + hh, tmp, mode, c, k3)
-    for i in range(n):
-        tmp[i] = s[i] + h * k3[i]
-    derivatives(t + h, tmp, mode, c, k4)
+    x = state_tuple(s)
+    n = len(x)
+    t_stage = t
+    for stage in range(4):  # one call site of the (inlined) model: see the module doc
+        if stage == 1:
+            for i in range(n):
+                out[i] = s[i] + hh * work[0, i]
+            t_stage = t + hh
+        elif stage == 2:
+            for i in range(n):
+                out[i] = s[i] + hh * work[1, i]
+        elif stage == 3:
+            for i in range(n):
+                out[i] = s[i] + h * work[2, i]
+            t_stage = t + h
+        if stage > 0:
+            x = state_tuple(out)
+        k = derivatives(t_stage, x, mode, c)
+        for i in range(n):
+            work[stage, i] = k[i]
     w = h / 6.0
     for i in range(n):
-        out[i] = s[i] + w * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i])
+        out[i] = s[i] + w * (work[0, i] + 2.0 * work[1, i] + 2.0 * work[2, i] + work[3, i])
 
 
 # Dormand–Prince 5(4) tableau (Dormand & Prince 1980; the same as scipy's RK45).
@@ -70,41 +86,68 @@ _E1, _E3, _E4, _E5, _E6, _E7 = (
 _C2, _C3, _C4, _C5 = 1.0 / 5.0, 3.0 / 10.0, 4.0 / 5.0, 8.0 / 9.0
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def dp54_step(s, t, h, mode, c, rtol, atol, out, work):
     """Dormand–Prince 5(4) step of length h [s]; the 5th-order state goes to ``out``.
 
     Returns the RMS error norm of the embedded estimate, each component scaled by
     atol[i] + rtol * max(|s_i|, |out_i|) (1 means "at tolerance").
     """
-    n = s.shape[0]
-    k1, k2, k3, k4 = work[0], work[1], work[2], work[3]
-    k5, k6, k7, tmp = work[4], work[5], work[6], work[7]
-    derivatives(t, s, mode, c, k1)
-    for i in range(n):
-        tmp[i] = s[i] + h * (_A21 * k1[i])
-    derivatives(t + _C2 * h, tmp, mode, c, k2)
-    for i in range(n):
-        tmp[i] = s[i] + h * (_A31 * k1[i] + _A32 * k2[i])
-    derivatives(t + _C3 * h, tmp, mode, c, k3)
-    for i in range(n):
-        tmp[i] = s[i] + h * (_A41 * k1[i] + _A42 * k2[i] + _A43 * k3[i])
-    derivatives(t + _C4 * h, tmp, mode, c, k4)
-    for i in range(n):
-        tmp[i] = s[i] + h * (_A51 * k1[i] + _A52 * k2[i] + _A53 * k3[i] + _A54 * k4[i])
-    derivatives(t + _C5 * h, tmp, mode, c, k5)
-    for i in range(n):
-        tmp[i] = s[i] + h * (
-            _A61 * k1[i] + _A62 * k2[i] + _A63 * k3[i] + _A64 * k4[i] + _A65 * k5[i]
-        )
-    derivatives(t + h, tmp, mode, c, k6)
-    for i in range(n):
-        out[i] = s[i] + h * (_B1 * k1[i] + _B3 * k3[i] + _B4 * k4[i] + _B5 * k5[i] + _B6 * k6[i])
-    derivatives(t + h, out, mode, c, k7)
+    x = state_tuple(s)
+    n = len(x)
+    t_stage = t
+    for stage in range(7):  # one call site of the (inlined) model: see the module doc
+        if stage == 1:
+            for i in range(n):
+                out[i] = s[i] + h * (_A21 * work[0, i])
+            t_stage = t + _C2 * h
+        elif stage == 2:
+            for i in range(n):
+                out[i] = s[i] + h * (_A31 * work[0, i] + _A32 * work[1, i])
+            t_stage = t + _C3 * h
+        elif stage == 3:
+            for i in range(n):
+                out[i] = s[i] + h * (_A41 * work[0, i] + _A42 * work[1, i] + _A43 * work[2, i])
+            t_stage = t + _C4 * h
+        elif stage == 4:
+            for i in range(n):
+                out[i] = s[i] + h * (
+                    _A51 * work[0, i] + _A52 * work[1, i] + _A53 * work[2, i] + _A54 * work[3, i]
+                )
+            t_stage = t + _C5 * h
+        elif stage == 5:
+            for i in range(n):
+                out[i] = s[i] + h * (
+                    _A61 * work[0, i]
+                    + _A62 * work[1, i]
+                    + _A63 * work[2, i]
+                    + _A64 * work[3, i]
+                    + _A65 * work[4, i]
+                )
+            t_stage = t + h
+        elif stage == 6:  # the 5th-order result; its derivative closes the error estimate
+            for i in range(n):
+                out[i] = s[i] + h * (
+                    _B1 * work[0, i]
+                    + _B3 * work[2, i]
+                    + _B4 * work[3, i]
+                    + _B5 * work[4, i]
+                    + _B6 * work[5, i]
+                )
+        if stage > 0:
+            x = state_tuple(out)
+        k = derivatives(t_stage, x, mode, c)
+        for i in range(n):
+            work[stage, i] = k[i]
     total = 0.0
     for i in range(n):
         err = h * (
-            _E1 * k1[i] + _E3 * k3[i] + _E4 * k4[i] + _E5 * k5[i] + _E6 * k6[i] + _E7 * k7[i]
+            _E1 * work[0, i]
+            + _E3 * work[2, i]
+            + _E4 * work[3, i]
+            + _E5 * work[4, i]
+            + _E6 * work[5, i]
+            + _E7 * work[6, i]
         )
         scale = atol[i] + rtol * max(abs(s[i]), abs(out[i]))
         total += (err / scale) ** 2

@@ -20,6 +20,12 @@ can start on the boundary: right after a release the sliding speed is exactly 0.
 speed must first rise, so only a return to zero after its maximum counts.
 
 Nothing here knows what the state variables mean or how many there are.
+
+Every step runs the screening (the switching functions and their rates at the step
+ends) on state tuples (:func:`~microslip.model.system.state_tuple`), which go by value
+through compiled calls; the state arrays reach only the locating, when a switch may be
+inside the step. An array argument is reference-counted at every compiled call, with
+atomic operations that would cost more per step than the laws.
 """
 
 from __future__ import annotations
@@ -33,23 +39,29 @@ from microslip.model.system import (
     N_SWITCHES,
     holds_only_inside,
     inside,
+    state_tuple,
     switch_active,
     switching_rate,
     switching_value,
 )
 
-__all__ = ["EVENT_NAMES", "NO_SWITCH", "first_switch", "locate"]
+__all__ = ["EVENT_NAMES", "NO_SWITCH", "first_switch", "locate", "may_switch"]
 
 NO_SWITCH = 2.0  # θ returned when a step holds no switch
 _EPS = 2.220446049250313e-16
 _BOUND_SAFETY = 2.0  # on the linear-rate bound of an interior excursion
 
+# Verdicts of the screening of one switching function over a step.
+_CLEAR = 0  # no switch inside the step
+_CROSSING = 1  # g changes sides between the step ends
+_EXTREMUM = 2  # g may cross at an interior extremum (a root of ġ)
+
 
 @njit(cache=True, inline="always")
-def _evaluate(which, of_rate, t, s, mode, c):
+def _evaluate(which, of_rate, t, x, mode, c):
     if of_rate:
-        return switching_rate(which, t, s, mode, c)
-    return switching_value(which, t, s, mode, c)
+        return switching_rate(which, t, x, mode, c)
+    return switching_value(which, t, x, mode, c)
 
 
 @njit(cache=True, inline="always")
@@ -80,7 +92,8 @@ def locate(which, of_rate, method, s0, t, h, mode, c, rtol, atol, lo, hi, f_lo, 
             theta = 0.5 * (lo + hi)
         advance(method, s0, t, theta * h, mode, c, rtol, atol, trial, work)
         t_mid = t + theta * h
-        f_mid = _evaluate(which, of_rate, t_mid, trial, mode, c)
+        x_mid = state_tuple(trial)
+        f_mid = _evaluate(which, of_rate, t_mid, x_mid, mode, c)
         if _side(which, of_rate, f_mid) == side_lo:
             lo, f_lo = theta, f_mid
             if retained == -1:
@@ -92,7 +105,7 @@ def locate(which, of_rate, method, s0, t, h, mode, c, rtol, atol, lo, hi, f_lo, 
                 f_lo *= 0.5
             retained = 1
         if not of_rate:
-            slope = switching_rate(which, t_mid, trial, mode, c) * h
+            slope = switching_rate(which, t_mid, x_mid, mode, c) * h
             step = f_mid / slope if slope != 0.0 else 0.0
             if slope != 0.0 and abs(step) <= 0.25 * tolerance:
                 # Converged: probe just past the root to close the bracket from the far side.
@@ -109,44 +122,61 @@ def locate(which, of_rate, method, s0, t, h, mode, c, rtol, atol, lo, hi, f_lo, 
     return hi
 
 
-@njit(cache=True)
-def _first_crossing(which, method, s0, s1, t, h, mode, c, rtol, atol, trial, extremum, work):
-    """θ of the first flip of switching function ``which`` in the step, or NO_SWITCH."""
-    g0 = switching_value(which, t, s0, mode, c)
-    g1 = switching_value(which, t + h, s1, mode, c)
+@njit(cache=True, error_model="numpy")
+def _screen(which, t, h, mode, c, x0, x1):
+    """(verdict, g0, g1, ġ0, ġ1) of switching function ``which`` over the step from
+    (t, x0) to (t + h, x1) (state tuples): _CLEAR, _CROSSING (a sign change between the
+    step ends) or _EXTREMUM (an interior extremum may hide a crossing; ġ0, ġ1 bracket
+    it)."""
+    g0 = switching_value(which, t, x0, mode, c)
+    g1 = switching_value(which, t + h, x1, mode, c)
     in0 = inside(which, g0)
     in1 = inside(which, g1)
-    rising = (not in0) and holds_only_inside(which)
-    if rising:
-        r1 = switching_rate(which, t + h, s1, mode, c)
+    if (not in0) and holds_only_inside(which):
+        r1 = switching_rate(which, t + h, x1, mode, c)
         # On the boundary of a mode entered right here: g must first rise; a flip can
         # only come after its maximum, and only if g ends outside.
         if in1 or r1 > 0.0:
-            return NO_SWITCH
-        r0 = abs(switching_rate(which, t, s0, mode, c))
+            return _CLEAR, g0, g1, 0.0, r1
+        r0 = abs(switching_rate(which, t, x0, mode, c))
         if r0 == 0.0:
             r0 = 1e-300  # ġ(0) is zero up to rounding at a release: rising by definition
-    else:
-        if in1 != in0:
-            return locate(
-                which, False, method, s0, t, h, mode, c, rtol, atol, 0.0, 1.0, g0, g1, trial, work
-            )
-        r0 = switching_rate(which, t, s0, mode, c)
-        r1 = switching_rate(which, t + h, s1, mode, c)
-        # Only an extremum that turns g back towards zero can hide a double crossing:
-        # a minimum from the inside (g > 0), a maximum from the outside.
-        towards = 1.0 if in0 else -1.0
-        if not (towards * r0 < 0.0 and towards * r1 > 0.0):
-            return NO_SWITCH
-        if min(abs(g0), abs(g1)) > _BOUND_SAFETY * h * (abs(r0) + abs(r1)):
-            return NO_SWITCH
+        return _EXTREMUM, g0, g1, r0, r1
+    if in1 != in0:
+        return _CROSSING, g0, g1, 0.0, 0.0
+    # Only an extremum that turns g back towards zero can hide a double crossing:
+    # a minimum from the inside (g > 0), a maximum from the outside.
+    towards = 1.0 if in0 else -1.0
+    r0 = switching_rate(which, t, x0, mode, c)
+    if not towards * r0 < 0.0:
+        return _CLEAR, g0, g1, r0, 0.0
+    r1 = switching_rate(which, t + h, x1, mode, c)
+    if not towards * r1 > 0.0:
+        return _CLEAR, g0, g1, r0, r1
+    if min(abs(g0), abs(g1)) > _BOUND_SAFETY * h * (abs(r0) + abs(r1)):
+        return _CLEAR, g0, g1, r0, r1
+    return _EXTREMUM, g0, g1, r0, r1
+
+
+@njit(cache=True)
+def _resolve(
+    verdict, which, method, s0, t, h, mode, c, rtol, atol, g0, g1, r0, r1, trial, extremum, work
+):  # fmt: skip
+    """θ of the first flip of switching function ``which`` in the step after a verdict
+    of :func:`_screen` other than _CLEAR, or NO_SWITCH."""
+    if verdict == _CROSSING:
+        return locate(
+            which, False, method, s0, t, h, mode, c, rtol, atol, 0.0, 1.0, g0, g1, trial, work
+        )
+    in0 = inside(which, g0)
+    rising = (not in0) and holds_only_inside(which)
     theta_x = locate(
         which, True, method, s0, t, h, mode, c, rtol, atol, 0.0, 1.0, r0, r1, trial, work
     )
     if not (0.0 < theta_x < 1.0):
         return NO_SWITCH
     advance(method, s0, t, theta_x * h, mode, c, rtol, atol, extremum, work)
-    gx = switching_value(which, t + theta_x * h, extremum, mode, c)
+    gx = switching_value(which, t + theta_x * h, state_tuple(extremum), mode, c)
     if rising:
         if inside(which, gx):  # rose, then falls back through zero by the step end
             return locate(
@@ -161,6 +191,16 @@ def _first_crossing(which, method, s0, s1, t, h, mode, c, rtol, atol, trial, ext
     return NO_SWITCH
 
 
+@njit(cache=True, error_model="numpy")
+def may_switch(t, h, mode, c, x0, x1):
+    """False when no switching function of the model can flip inside the step from
+    (t, x0) to (t + h, x1) (state tuples): the common step, screened without arrays."""
+    for which in range(N_SWITCHES):
+        if switch_active(which, mode, c) and _screen(which, t, h, mode, c, x0, x1)[0] != _CLEAR:
+            return True
+    return False
+
+
 @njit(cache=True)
 def first_switch(method, s0, s1, t, h, mode, c, rtol, atol, trial, extremum, work):
     """Earliest switching inside a trial step from (t, s0) to (t + h, s1).
@@ -170,14 +210,20 @@ def first_switch(method, s0, s1, t, h, mode, c, rtol, atol, trial, extremum, wor
     or (NO_SWITCH, -1) when the step holds no switch. On a tie the function listed
     first by the model wins.
     """
+    x0 = state_tuple(s0)
+    x1 = state_tuple(s1)
     best = NO_SWITCH
     which_best = -1
     for which in range(N_SWITCHES):
         if not switch_active(which, mode, c):
             continue
-        theta = _first_crossing(
-            which, method, s0, s1, t, h, mode, c, rtol, atol, trial, extremum, work
-        )
+        verdict, g0, g1, r0, r1 = _screen(which, t, h, mode, c, x0, x1)
+        if verdict == _CLEAR:
+            continue
+        theta = _resolve(
+            verdict, which, method, s0, t, h, mode, c, rtol, atol, g0, g1, r0, r1,
+            trial, extremum, work,
+        )  # fmt: skip
         if theta < best:
             best = theta
             which_best = which

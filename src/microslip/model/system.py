@@ -9,7 +9,8 @@ This is the only module that knows what the state variables mean. The integrator
 * the coefficient vector ``c`` (:mod:`microslip.model.coefficients`);
 
 and call :func:`derivatives` within a mode, and the switching functions, which say when
-the mode or the smoothness of the right-hand side changes:
+the mode or the smoothness of the right-hand side changes (the state goes to them as a
+tuple, :func:`state_tuple`, or as an array):
 
     CONTACT_GAP     δ                      > 0 in contact (touchdown / lift-off at δ = 0)
     SEPARATION      N_raw (sign-floored)   > 0 in contact; only with damping, which can
@@ -61,6 +62,7 @@ __all__ = [
     "inside",
     "normal_samples",
     "state_array",
+    "state_tuple",
     "switch_active",
     "switching_rate",
     "switching_value",
@@ -104,15 +106,30 @@ def sign(value):
     return 0.0
 
 
-@njit(cache=True)
-def derivatives(t, s, mode, c, out):
-    """ṡ into ``out``: (ẏ, ÿ, ẋ, ẍ) of eqs. (2.4)–(2.5) with the composed normal law."""
+@njit(cache=True, inline="always")
+def state_tuple(s):
+    """The state array ``s`` as a tuple of its :data:`N_STATE` values.
+
+    The laws below take the state as a tuple (or an array): a tuple goes by value
+    through compiled calls, while an array argument is reference-counted (atomic
+    operations) at every call, which costs more than the laws themselves.
+    """
+    return (s[Y], s[YDOT], s[X], s[XDOT])
+
+
+# Inlined into the steps (one call site each): see integrators/steppers.py.
+@njit(cache=True, inline="always")
+def derivatives(t, s, mode, c):
+    """ṡ = (ẏ, ÿ, ẋ, ẍ) of eqs. (2.4)–(2.5) with the composed normal law, a tuple in
+    the state layout; ``s`` is a state tuple (:func:`state_tuple`) or array."""
     y = s[Y]
     yd = s[YDOT]
-    out[Y] = yd
-    out[YDOT] = normal_acceleration(t, y, yd, c)
-    out[X] = s[XDOT]
-    out[XDOT] = slip_acceleration(normal_force(t, y, yd, c), t, mode, c)
+    return (
+        yd,
+        normal_acceleration(t, y, yd, c),
+        s[XDOT],
+        slip_acceleration(normal_force(t, y, yd, c), t, mode, c),
+    )
 
 
 @njit(cache=True, inline="always")
@@ -154,9 +171,12 @@ def holds_only_inside(which):
     return which == STICK_MARGIN or which == SLIDING_SPEED
 
 
-@njit(cache=True)
+# error_model="numpy": no ZeroDivisionError branch (the only division is by the mass),
+# which would keep numba from dropping the reference counts of its callers' arrays.
+@njit(cache=True, error_model="numpy")
 def switching_value(which, t, s, mode, c):
-    """Value of switching function ``which`` at (t, s) in ``mode`` (units of its law)."""
+    """Value of switching function ``which`` at (t, s) in ``mode`` (units of its law);
+    ``s`` a state tuple or array."""
     y = s[Y]
     yd = s[YDOT]
     if which == CONTACT_GAP:
@@ -169,7 +189,7 @@ def switching_value(which, t, s, mode, c):
     return mode * s[XDOT]
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def switching_rate(which, t, s, mode, c):
     """Time derivative of :func:`switching_value` along the motion in ``mode``."""
     y = s[Y]
