@@ -19,7 +19,7 @@ from numba import njit
 from microslip import _jit_cache  # noqa: F401  (registers the cache before any @njit)
 from microslip.integrators.methods import DP54, WORK_ROWS, advance
 from microslip.model.coefficients import AREA_CN, EXPONENT, GRAVITY, MASS
-from microslip.model.contact import normal_acceleration
+from microslip.model.normal import normal_acceleration
 from microslip.model.system import N_STATE, YDOT, Y
 
 # Summary slots of an orbit.
@@ -124,8 +124,8 @@ def build_half_orbit(amplitude, c, steps_per_half, ys, yds, summary):
         if s[YDOT] <= 0.0:
             break
     # The bottom (ẏ = 0) lies in the last interval: bisect the interpolated slope.
-    a0 = normal_acceleration(ys[n - 2], 0.0, c)
-    a1 = normal_acceleration(ys[n - 1], 0.0, c)
+    a0 = normal_acceleration(0.0, ys[n - 2], 0.0, c)
+    a1 = normal_acceleration(0.0, ys[n - 1], 0.0, c)
     lo, hi = 0.0, 1.0
     for _ in range(80):
         mid = 0.5 * (lo + hi)
@@ -167,10 +167,10 @@ def orbit_state(t, ys, yds, summary, c):
     value, slope = _hermite(
         y_a,
         yds[i],
-        normal_acceleration(y_a, 0.0, c),
+        normal_acceleration(0.0, y_a, 0.0, c),
         y_b,
         yds[i + 1],
-        normal_acceleration(y_b, 0.0, c),
+        normal_acceleration(0.0, y_b, 0.0, c),
         h,
         u - i,
     )

@@ -38,7 +38,7 @@ from microslip.analysis import orbit
 from microslip.model.capabilities import require
 from microslip.model.coefficients import AREA_CN, EXPONENT, GRAVITY, MASS, MU, pack
 from microslip.model.composition import Model, as_model
-from microslip.model.contact import reaction
+from microslip.model.contact import elastic_force
 from microslip.model.parameters import Parameters
 
 __all__ = ["StickSlipCycle", "mean_velocity", "mean_velocity_grid", "stick_slip_cycle"]
@@ -68,7 +68,7 @@ def steady_cycle(force, ys, yds, summary, c, out):
     mu = c[MU]
     mass = c[MASS]
     y_top = summary[orbit.O_TOP]
-    threshold = mu * reaction(y_top, 0.0, c)
+    threshold = mu * elastic_force(y_top, c)
     out[CY_PERIOD] = period
     if not force > threshold:
         out[CY_MEAN] = 0.0
@@ -98,7 +98,7 @@ def steady_cycle(force, ys, yds, summary, c, out):
             lo = t
         else:
             hi = t
-        dv = (force - mu * reaction(y, yd, c)) / mass
+        dv = (force - mu * elastic_force(y, c)) / mass
         t_new = t - v / dv if dv < 0.0 else 0.5 * (lo + hi)
         if not (lo < t_new < hi):
             t_new = 0.5 * (lo + hi)

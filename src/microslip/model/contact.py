@@ -11,16 +11,14 @@ import numpy as np
 from numba import njit
 
 from microslip import _jit_cache  # noqa: F401  (registers the cache before any @njit)
-from microslip.model.coefficients import AREA_CN, EXPONENT, GRAVITY, MASS
+from microslip.model.coefficients import AREA_CN, EXPONENT
 from microslip.model.parameters import Parameters
 
 __all__ = [
     "elastic_force",
     "elastic_stiffness",
-    "normal_acceleration",
     "normal_reaction",
     "potential_energy",
-    "reaction",
     "reaction_array",
 ]
 
@@ -50,23 +48,6 @@ def elastic_stiffness(delta, c):
     if m2 == 2.0:
         return 2.0 * c[AREA_CN] * delta
     return m2 * c[AREA_CN] * delta ** (m2 - 1.0)
-
-
-@njit(cache=True, inline="always")
-def reaction(y: float, ydot: float, c: np.ndarray) -> float:
-    """Compressive normal reaction |R| = S c_n max(y, 0)^m2 [N], eq. (2.3), of the
-    paper's elastic contact (no damping, no excitation; ``ydot`` [m/s] unused).
-
-    Kept for the free-vibration analyses of the paper's model; the integrators use the
-    composed law of :mod:`microslip.model.normal`.
-    """
-    return elastic_force(y, c)
-
-
-@njit(cache=True, inline="always")
-def normal_acceleration(y: float, ydot: float, c: np.ndarray) -> float:
-    """ÿ = g - |R|/m [m/s^2], eq. (2.4), of the paper's model (see :func:`reaction`)."""
-    return c[GRAVITY] - reaction(y, ydot, c) / c[MASS]
 
 
 def reaction_array(params: Parameters, y: np.ndarray) -> np.ndarray:
