@@ -15,6 +15,7 @@ import shutil
 import sys
 import time
 import uuid
+from collections.abc import Callable
 from pathlib import Path
 
 import numpy as np
@@ -125,9 +126,7 @@ def cmd_simulate(args: argparse.Namespace) -> int:
     from microslip.io.output import (
         DATASET_SUFFIXES,
         PLOT_SUFFIXES,
-        OutputBatch,
         check_writable,
-        write_dataset,
     )
     from microslip.simulation import DEFAULT_RTOL
 
@@ -211,17 +210,33 @@ def cmd_simulate(args: argparse.Namespace) -> int:
             f"output thinned to 1 step in {save_every} ({result.t.size} samples); "
             "choose with --samples or --save-every"
         )
+    from microslip.plotting.trajectory import write_trajectory_plot
+
+    write_outputs(
+        out, plot, overwrite, result.to_xarray, lambda tmp: write_trajectory_plot(result, tmp)
+    )
+    return 0
+
+
+def write_outputs(
+    out: Path | None,
+    plot: Path | None,
+    overwrite: bool,
+    dataset: Callable[[], object],
+    draw: Callable[[Path], None],
+) -> None:
+    """Write the NetCDF ``out`` (of ``dataset()``, built only when asked for) and the
+    figure ``plot`` (``draw(path)``) as one batch: both land, or neither; print each."""
+    from microslip.io.output import OutputBatch, write_dataset
+
     with OutputBatch(overwrite=overwrite) as batch:
         if out is not None:
-            data = result.to_xarray()
+            data = dataset()
             batch.write(out, lambda tmp: write_dataset(data, tmp, overwrite=False))
         if plot is not None:
-            from microslip.plotting.trajectory import write_trajectory_plot
-
-            batch.write(plot, lambda tmp: write_trajectory_plot(result, tmp))
+            batch.write(plot, draw)
         for path in _commit(batch):
             print(f"wrote {path}")
-    return 0
 
 
 def _check_samples(opts: Options, samples: int, allow_large: bool) -> None:

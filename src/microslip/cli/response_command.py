@@ -14,7 +14,7 @@ import time
 
 import numpy as np
 
-from microslip.cli.commands import _commit, _output_path, _same_file
+from microslip.cli.commands import _output_path, _same_file, write_outputs
 from microslip.cli.options import CliError, Options, gather, refuse_underscores
 
 __all__ = ["cmd_response", "parse_pair", "summary_lines"]
@@ -50,12 +50,7 @@ def _range(opts: Options) -> tuple[str, str, tuple[float, float]]:
 
 
 def cmd_response(args: argparse.Namespace) -> int:
-    from microslip.io.output import (
-        PLOT_SUFFIXES,
-        OutputBatch,
-        check_writable,
-        write_dataset,
-    )
+    from microslip.io.output import PLOT_SUFFIXES, check_writable
 
     opts = gather(args, "response")
     if opts.parts["excitation"].kind == "none":
@@ -95,15 +90,9 @@ def cmd_response(args: argparse.Namespace) -> int:
     elapsed = time.perf_counter() - started
     for line in summary_lines(ds, name, elapsed):
         print(line)
-    with OutputBatch(overwrite=overwrite) as batch:
-        if out is not None:
-            batch.write(out, lambda tmp: write_dataset(ds, tmp, overwrite=False))
-        if plot is not None:
-            from microslip.plotting.response import write_response_plot
+    from microslip.plotting.response import write_response_plot
 
-            batch.write(plot, lambda tmp: write_response_plot(ds, tmp))
-        for path in _commit(batch):
-            print(f"wrote {path}")
+    write_outputs(out, plot, overwrite, lambda: ds, lambda tmp: write_response_plot(ds, tmp))
     return 0
 
 
