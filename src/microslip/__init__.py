@@ -24,6 +24,16 @@ __version__ = "0.1.0"
 # public name -> module that defines it
 _EXPORTS = {
     "BaseMotion": "microslip.model.excitation",
+    "ConstantForce": "microslip.model.drive",
+    "Coulomb": "microslip.model.friction",
+    "HarmonicDrive": "microslip.model.drive",
+    "MindlinSpring": "microslip.model.tangential",
+    "PrescribedVelocity": "microslip.model.drive",
+    "Rigid": "microslip.model.tangential",
+    "SpringDrive": "microslip.model.drive",
+    "StaticKinetic": "microslip.model.friction",
+    "Stribeck": "microslip.model.friction",
+    "TangentialSpring": "microslip.model.tangential",
     "HarmonicForce": "microslip.model.excitation",
     "HuntCrossley": "microslip.model.damping",
     "Model": "microslip.model.composition",

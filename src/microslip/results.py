@@ -9,9 +9,8 @@ from typing import Any
 import numpy as np
 
 from microslip.model.composition import Model
-from microslip.model.friction import friction_force
 from microslip.model.parameters import Parameters
-from microslip.model.system import EVENT_NAMES, normal_samples
+from microslip.model.system import EVENT_NAMES, interface_samples, normal_samples
 
 STICK, SLIP, FLIGHT = 0, 1, 2
 STATE_MEANINGS = "stick slip flight"
@@ -29,13 +28,22 @@ class SimulationResult:
     N : compressive normal force N >= 0 [N] of the composed normal law (the paper's |R|,
         eq. 2.3, with damping and excitation); ``R`` is the same array
     delta : penetration δ = y - z(t) [m] (z the surface motion; δ = y without one)
+    u : contact point position [m] of a compliant tangential contact (= x with a rigid
+        one)
+    spring_force : tangential spring force f [N] of a compliant contact (the force on
+        the body is -f; 0 with a rigid one)
+    drive_force : tangential drive force F(t) [N] on the body (kinematic drive: the
+        force that keeps ẋ = v, = -F_t)
     Ft : friction force on the slider [N], signed as in (2.5): m ẍ = F + F_t
-        (sliding: -μN sgn ẋ; stick: -F, the paper's real friction force F_tr)
-    friction_limit : μN [N], the potential static friction force (Fig. 5, thin lines)
-    state : 0 stick, 1 slip (in contact), 2 flight (loss of contact: δ <= 0 or N_raw <= 0)
-    direction : sliding direction at each sample (-1, 0 = stick, +1)
+        (rigid, sliding: -μ N sgn ẋ; stick: -F, the paper's real friction force F_tr;
+        compliant: -f)
+    friction_limit : μ_s N [N], the potential static friction force (Fig. 5, thin lines)
+    state : 0 stick, 1 slip (in contact), 2 flight (loss of contact: δ <= 0 or N_raw <= 0);
+        stick and slip of the contact point with a compliant tangential contact
+    direction : slip direction of the interface at each sample (-1, 0 = stick, +1): the
+        body's (rigid) or the contact point's (compliant)
     event_t, event_kind, event_states : switching instants [s], their kinds (names in
-        ``EVENT_NAMES``) and the state (y, ẏ, x, ẋ) just after each switch
+        ``EVENT_NAMES``) and the state (y, ẏ, x, ẋ, u, f) just after each switch
     model : the Model simulated (``Model(params)`` when not given)
     """
 
@@ -53,10 +61,30 @@ class SimulationResult:
     event_states: np.ndarray
     settings: dict[str, Any] = field(default_factory=dict)
     model: Model | None = None
+    u: np.ndarray | None = None
+    spring_force: np.ndarray | None = None
 
     def __post_init__(self) -> None:
         if self.model is None:
             object.__setattr__(self, "model", Model(self.params))
+        if self.u is None:
+            object.__setattr__(self, "u", np.asarray(self.x, dtype=float).copy())
+        if self.spring_force is None:
+            object.__setattr__(self, "spring_force", np.zeros_like(self.x, dtype=float))
+
+    @cached_property
+    def _interface(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        # (F, F_t, μ_s N) from the model's drive, friction law and tangential contact.
+        states = np.ascontiguousarray(
+            np.column_stack([self.y, self.ydot, self.x, self.xdot, self.u, self.spring_force]),
+            dtype=float,
+        )
+        return interface_samples(
+            np.ascontiguousarray(self.t, dtype=float),
+            states,
+            np.ascontiguousarray(self.direction, dtype=float),
+            self.model.pack(self.force),
+        )
 
     @cached_property
     def _normal(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -81,15 +109,24 @@ class SimulationResult:
 
     @property
     def friction_limit(self) -> np.ndarray:
-        return self.params.mu * self.N
+        return self._interface[2]
+
+    @property
+    def drive_force(self) -> np.ndarray:
+        return self._interface[0]
 
     @property
     def Ft(self) -> np.ndarray:
-        return friction_force(self.direction, self.friction_limit, self.force)
+        return self._interface[1]
 
     @property
     def xddot(self) -> np.ndarray:
-        return np.where(self.direction != 0.0, (self.force + self.Ft) / self.params.mass, 0.0)
+        if self.model.is_kinematic:
+            return np.zeros_like(self.t)
+        accel = (self.drive_force + self.Ft) / self.params.mass
+        if self.model.is_compliant:
+            return accel
+        return np.where(self.direction != 0.0, accel, 0.0)
 
     @property
     def state(self) -> np.ndarray:
@@ -129,7 +166,7 @@ class SimulationResult:
                 "N": var(self.N, "N", "compressive normal force N of the composed law"),
                 "delta": var(self.delta, "m", "penetration delta = y - z (> 0 overlap)"),
                 "Ft": var(self.Ft, "N", "friction force on the slider (eq. 2.5 sign)"),
-                "friction_limit": var(self.friction_limit, "N", "friction limit mu N"),
+                "friction_limit": var(self.friction_limit, "N", "static friction limit mu_s N"),
                 "state": var(
                     self.state,
                     "1",
@@ -147,6 +184,13 @@ class SimulationResult:
                 **{k: v for k, v in self.settings.items() if v is not None},
             },
         )
+        if self.model.is_compliant:
+            ds["u"] = var(self.u, "m", "contact point position")
+            ds["spring_force"] = var(
+                self.spring_force, "N", "tangential contact spring force f (on the body: -f)"
+            )
+        if self.model.drive is not None:
+            ds["F"] = var(self.drive_force, "N", "tangential drive force on the body")
         ds["event_time"] = ("event", self.event_t, {"units": "s", "long_name": "switch time"})
         ds["event_kind"] = (
             "event",

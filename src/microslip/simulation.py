@@ -13,11 +13,12 @@ import numpy as np
 from microslip import budget
 from microslip import validation as check
 from microslip.integrators import integrate
+from microslip.model.coefficients import MU_STATIC
 from microslip.model.composition import Model, as_model
 from microslip.model.contact import potential_energy
 from microslip.model.excitation import PrescribedPenetration
 from microslip.model.parameters import POSITION_LIMIT, Parameters
-from microslip.model.system import XDOT, YDOT, X, Y, state_array
+from microslip.model.system import FT, XDOT, YDOT, U, X, Y, state_array
 from microslip.results import SimulationResult
 from microslip.validation import DEFAULT_RK4_STEPS_PER_PERIOD, RK4_MAX_STEP_FRACTION
 
@@ -36,30 +37,38 @@ DEFAULT_ATOL = 1e-13
 def initial_state_from_amplitude(params: Parameters, amplitude: float) -> tuple[float, ...]:
     """The paper's initial state for amplitude A = y0 - y_min [m] (Sec. 3–4).
 
-    The slider starts at rest at its highest point: y = y0 - A, ẏ = 0, x = ẋ = 0.
+    The slider starts at rest at its highest point: y = y0 - A, ẏ = 0, x = ẋ = 0,
+    and a relaxed tangential spring (u = x = 0, f = 0): the full state layout of
+    :mod:`microslip.model.system`.
     """
-    return (params.static_deflection - amplitude, 0.0, 0.0, 0.0)
+    return tuple(state_array(params.static_deflection - amplitude, 0.0))
 
 
-def natural_tolerances(params: Parameters, atol: float) -> np.ndarray:
+def natural_tolerances(params: Parameters, atol: float, mu: float | None = None) -> np.ndarray:
     """Absolute tolerances per component: ``atol`` times the natural scales.
 
-    The scales are those of docs/model-facts.md, fact 7.
-
-    y: y0 [m], ẏ: y0 ω0 [m/s], x: μ y0 [m], ẋ: μ y0 ω0 [m/s] (μ replaced by 1 when 0).
+    The scales are those of docs/model-facts.md, fact 7, with μ = ``params.mu`` unless
+    given (the static coefficient of a friction law with its own; 1 when 0):
+    y: y0 [m], ẏ: y0 ω0 [m/s], x: μ y0 [m], ẋ: μ y0 ω0 [m/s], u: μ y0 [m],
+    f: μ m g [N].
     """
     y0 = params.static_deflection
     w0 = params.natural_angular_frequency
-    mu = params.mu if params.mu > 0 else 1.0
-    return atol * np.array([y0, y0 * w0, mu * y0, mu * y0 * w0])
+    mu = params.mu if mu is None else mu
+    mu = mu if mu > 0 else 1.0
+    weight = params.mass * params.g
+    return atol * np.array([y0, y0 * w0, mu * y0, mu * y0 * w0, mu * y0, mu * weight])
 
 
 def _checked_initial_state(params: Parameters, initial_state) -> tuple[float, ...]:
     """(y, ẏ, x, ẋ) as floats, with a normal motion no larger than A = 1e3 y0,
     |x| <= 1e6 m and |ẋ| <= 1e6 g T0."""
     values = check.real_array("initial_state", initial_state)
-    if values.size != 4:
-        raise ValueError(f"initial_state must be (y, ydot, x, xdot), got {values.size} values")
+    if values.size not in (4, 6):
+        raise ValueError(
+            "initial_state must be (y, ydot, x, xdot) or (y, ydot, x, xdot, u, f), got "
+            f"{values.size} values"
+        )
     y, ydot = float(values[0]), float(values[1])
     y0 = params.static_deflection
     top = y0 - params.max_amplitude
@@ -85,7 +94,19 @@ def _checked_initial_state(params: Parameters, initial_state) -> tuple[float, ..
             f"initial_state xdot={xdot!r} m/s exceeds the supported 1e6 g T0 = "
             f"{params.max_velocity:.6g} m/s"
         )
-    return tuple(float(v) for v in values)
+    if values.size == 6:
+        u, spring = float(values[4]), float(values[5])
+        if abs(u) > POSITION_LIMIT:
+            raise ValueError(
+                f"initial_state u={u!r} m exceeds the supported |u| <= {POSITION_LIMIT:g} m"
+            )
+        if abs(spring) > params.max_force:
+            raise ValueError(
+                f"initial_state f={spring!r} N exceeds the supported 1e6 m g = "
+                f"{params.max_force:.6g} N"
+            )
+        return (y, ydot, x, xdot, u, spring)
+    return (y, ydot, x, xdot, x, 0.0)
 
 
 def _initial_state(model: Model, amplitude, initial_state) -> tuple[np.ndarray, float | None]:
@@ -104,36 +125,57 @@ def _initial_state(model: Model, amplitude, initial_state) -> tuple[np.ndarray, 
                 "penetration starts at delta(0) = mean + amplitude of the excitation"
             )
         delta0 = excitation.mean + excitation.amplitude
-        x0, xdot0 = 0.0, 0.0
+        tangential = (0.0, 0.0, 0.0, 0.0)
         if initial_state is not None:
             values = check.real_array("initial_state", initial_state)
-            if values.size != 4:
+            if values.size not in (4, 6):
                 raise ValueError(
-                    f"initial_state must be (y, ydot, x, xdot), got {values.size} values"
+                    "initial_state must be (y, ydot, x, xdot) or (y, ydot, x, xdot, u, f), "
+                    f"got {values.size} values"
                 )
             if abs(values[0] - delta0) > 1e-12 * delta0 or values[1] != 0.0:
                 raise ValueError(
                     f"initial_state (y={values[0]!r} m, ydot={values[1]!r} m/s) must be the "
                     f"prescribed delta(0) = {delta0!r} m, ydot = 0 with PrescribedPenetration"
                 )
-            x0, xdot0 = _checked_initial_state(params, (delta0, 0.0, values[2], values[3]))[2:]
-        return state_array(delta0, 0.0, x0, xdot0), None
+            checked = _checked_initial_state(params, (delta0, 0.0, *values[2:]))
+            tangential = checked[2:]
+        return _with_drive(model, state_array(delta0, 0.0, *tangential)), None
     if excitation is None and (amplitude is None) == (initial_state is None):
         raise ValueError("give exactly one of amplitude or initial_state")
     if amplitude is not None and initial_state is not None:
         raise ValueError("give at most one of amplitude or initial_state")
     if amplitude is not None:
         amplitude = check.amplitude(params, amplitude)
-        return state_array(*initial_state_from_amplitude(params, amplitude)), amplitude
+        state = np.array(initial_state_from_amplitude(params, amplitude))
+        return _with_drive(model, state), amplitude
     if initial_state is not None:
-        return state_array(*_checked_initial_state(params, initial_state)), None
-    return state_array(params.static_deflection, 0.0), None  # forced: from rest at y0
+        return _with_drive(model, np.array(_checked_initial_state(params, initial_state))), None
+    # forced: from rest at y0
+    return _with_drive(model, state_array(params.static_deflection, 0.0)), None
+
+
+def _with_drive(model: Model, state: np.ndarray) -> np.ndarray:
+    """``state`` with ẋ = v under a kinematic drive (the body moves at v from t = 0)."""
+    if model.is_kinematic:
+        if state[XDOT] not in (0.0, model.drive.velocity):
+            raise ValueError(
+                f"initial_state xdot={state[XDOT]!r} m/s conflicts with the prescribed "
+                f"velocity drive.velocity={model.drive.velocity!r} m/s"
+            )
+        state[XDOT] = model.drive.velocity
+    if not model.is_compliant and (state[FT] != 0.0 or state[U] != state[X]):
+        raise ValueError(
+            "initial_state u, f apply to a compliant tangential contact only (with a rigid "
+            "one give (y, ydot, x, xdot))"
+        )
+    return state
 
 
 def simulate(
     model_or_params: Model | Parameters | None = None,
     *,
-    force: float,
+    force: float | None = None,
     duration: float,
     amplitude: float | None = None,
     initial_state: Sequence[float] | None = None,
@@ -152,10 +194,11 @@ def simulate(
     model_or_params : Model or Parameters, optional
         The model (:class:`microslip.Model`: contact, damping, excitation) or its
         constants alone (the paper's model); the paper's data by default.
-    force : float
+    force : float, optional
         Constant tangential drive F [N] (Sec. 4), |F| <= ``params.max_force`` = 1e6 m g;
         F < 0 pushes the slider towards -x (backward sliding; with an ``initial_state``
-        sliding forward, a reversal).
+        sliding forward, a reversal). Required when the model has no ``drive``; refused
+        when it has one (the drive sets the tangential loading).
     duration : float
         Simulated time [s] from t = 0, at least 1e-6 T0; the output ends exactly at
         ``duration``.
@@ -165,12 +208,14 @@ def simulate(
         excitation give this or ``initial_state``; with a harmonic force or base motion
         both are optional (default: rest at the static deflection y0, ẏ = 0); refused
         with a prescribed penetration (the motion starts at δ(0) = δ_m + Δ).
-    initial_state : (y [m], ẏ [m/s], x [m], ẋ [m/s]), optional
+    initial_state : (y [m], ẏ [m/s], x [m], ẋ [m/s][, u [m], f [N]]), optional
         An explicit initial state instead of ``amplitude``; its normal motion must be
         no larger than that of A = 1e3 y0 (normal energy at most that of rest at
         y = y0 - 1e3 y0), |x| <= 1e6 m and |ẋ| <= ``params.max_velocity`` = 1e6 g T0
         (x enters no force: x0 only shifts the output). With a prescribed penetration
-        y, ẏ must be δ(0), 0.
+        y, ẏ must be δ(0), 0. The contact point u and spring force f of a compliant
+        tangential contact default to u = x, f = 0 (relaxed); with a prescribed velocity
+        ẋ is v.
     method : {"event", "rk4"}
         ``"event"``: adaptive Dormand–Prince 8(5,3) (DOP853) with every switching instant
         located and the integration restarted there. ``"rk4"``: the paper's fixed-step
@@ -206,7 +251,7 @@ def simulate(
         )
     model = as_model(model_or_params)
     params = model.params
-    force = check.force(params, force)
+    force = model.resolve_force(force)
     duration = check.duration(duration, params.natural_period)
     method = check.one_of("method", method, ("event", "rk4"))
     save_every = check.positive_int("save_every", save_every)
@@ -251,7 +296,7 @@ def simulate(
         h_initial=period / DEFAULT_RK4_STEPS_PER_PERIOD,
         h_max=period / 8.0,
         rtol=rtol,
-        atol=natural_tolerances(params, atol),
+        atol=natural_tolerances(params, atol, model.pack(force)[MU_STATIC]),
         t_eval=t_eval,
         save_every=save_every,
     )
@@ -269,6 +314,8 @@ def simulate(
         ydot=raw.states[:, YDOT],
         x=raw.states[:, X],
         xdot=raw.states[:, XDOT],
+        u=raw.states[:, U],
+        spring_force=raw.states[:, FT],
         direction=raw.direction,
         event_t=raw.event_t,
         event_kind=raw.event_kind,

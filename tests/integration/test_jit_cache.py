@@ -28,9 +28,10 @@ PROBE = f"""
 import json, microslip, numpy as np
 from microslip.integrators.steppers import WORK_ROWS, rk4_step
 from microslip.model.coefficients import pack
+from microslip.model.system import N_STATE, state_array
 p = microslip.Parameters()
-s, out = np.array([p.static_deflection, 0.0, 0.0, 0.0]), np.empty(4)
-rk4_step(s, 0.0, {H!r}, 0.0, pack(p, 0.0), out, np.empty((WORK_ROWS, 4)))
+s, out = state_array(p.static_deflection, 0.0), np.empty(N_STATE)
+rk4_step(s, 0.0, {H!r}, 0.0, pack(p, 0.0), out, np.empty((WORK_ROWS, N_STATE)))
 print(json.dumps({{"ydot": out[1], "g": p.g, "file": microslip.__file__,
                   "hits": sum(rk4_step.stats.cache_hits.values()),
                   "misses": sum(rk4_step.stats.cache_misses.values())}}))

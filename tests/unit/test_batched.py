@@ -56,7 +56,9 @@ def _scalar_final(params, force, amplitude, duration, dt):
         params, force=force, amplitude=amplitude, duration=duration, method="rk4", dt=dt,
         save_every=10**9,
     )  # fmt: skip
-    state = np.array([run.y[-1], run.ydot[-1], run.x[-1], run.xdot[-1]])
+    state = np.array(
+        [run.y[-1], run.ydot[-1], run.x[-1], run.xdot[-1], run.u[-1], run.spring_force[-1]]
+    )
     return state, run.t[-1], run.direction[-1], run.event_t.size
 
 
@@ -188,7 +190,7 @@ def test_broadcast_coefficients_and_result_fields():
     c = pack(PAPER, 0.5)
     states0 = np.array([[Y0 - 0.3 * Y0, 0.0, 0.0, 0.0], [Y0 - 0.6 * Y0, 0.0, 0.0, 0.0]])
     result = simulate_batch(c, states0, 3 * T0, DT)
-    assert result.states.shape == (2, 4)
+    assert result.states.shape == (2, 6)  # body (y, ydot, x, xdot), contact point (u, f)
     assert result.n_steps == time_grid(3 * T0, DT).size
     np.testing.assert_array_equal(result.mean_velocity, result.states[:, 2] / (3 * T0))
     np.testing.assert_array_equal(result.t_final, 3 * T0)

@@ -6,6 +6,7 @@ import numpy as np
 import pytest
 
 from microslip.model.capabilities import UnsupportedModelError, require
+from microslip.model.coefficients import MU, MU_STATIC
 from microslip.model.composition import PART_TYPES, Model, as_model
 from microslip.model.damping import HuntCrossley, Viscous
 from microslip.model.excitation import BaseMotion, HarmonicForce, PrescribedPenetration
@@ -28,7 +29,10 @@ def test_paper_model_is_default_and_packs_zero_kinds():
     m = Model()
     assert m.is_paper and m.params == P
     c = m.pack(0.5)
-    assert c[7:].tolist() == [0.0] * (c.size - 7)  # no damping, no excitation slots set
+    # no part slots set but the static coefficient, the paper's μ (Coulomb: μ_s = μ_k)
+    assert c[MU_STATIC] == c[MU] == P.mu
+    rest = np.delete(c[7:], MU_STATIC - 7)
+    assert rest.tolist() == [0.0] * rest.size
     assert as_model(None) == m and as_model(P) == m and as_model(m) is m
 
 

@@ -72,7 +72,14 @@ from microslip.integrators.methods import RK4, WORK_ROWS
 from microslip.integrators.steppers import rk4_step
 from microslip.integrators.switching import NO_SWITCH, may_switch
 from microslip.model.coefficients import SIZE
-from microslip.model.system import N_STATE, X, apply_switch, initial_mode, state_tuple
+from microslip.model.system import (
+    N_STATE,
+    X,
+    apply_switch,
+    full_states,
+    initial_mode,
+    state_tuple,
+)
 
 __all__ = ["DEFAULT_BLOCK", "BatchResult", "simulate_batch", "time_grid"]
 
@@ -287,7 +294,7 @@ def simulate_batch(
     same arithmetic). Raises ``RuntimeError`` if
     a trajectory stalls (more than 64 switches inside one step).
     """
-    states0 = np.asarray(states0, dtype=np.float64)
+    states0 = full_states(states0)
     if states0.ndim == 1:
         states0 = states0[None, :]
     if states0.ndim != 2 or states0.shape[1] != N_STATE:

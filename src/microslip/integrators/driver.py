@@ -11,7 +11,7 @@ import numpy as np
 
 from microslip.integrators import kernel
 from microslip.integrators.methods import DOP853, RK4
-from microslip.model.system import EVENT_NAMES, initial_mode
+from microslip.model.system import EVENT_NAMES, full_states, initial_mode
 
 METHODS = {"rk4": RK4, "event": DOP853}
 MAX_STEPS_PER_CALL = 1 << 20  # steps of one kernel call when every n-th step is kept
@@ -57,7 +57,7 @@ def integrate(
         # Ctrl-C reaches Python only between kernel calls: a call ends when its output
         # buffer is full, so bound its steps (~1e6, well under a second) by the buffer.
         buffer_size = int(min(buffer_size, max(64, MAX_STEPS_PER_CALL // save_every)))
-    s0 = np.array(state0, dtype=np.float64).ravel()
+    s0 = np.array(full_states(np.ravel(state0)), dtype=np.float64)
     n_state = s0.size
     atol = np.zeros(n_state) if atol is None else np.asarray(atol, dtype=float)
     t_eval = np.empty(0) if t_eval is None else np.asarray(t_eval, dtype=float)

@@ -18,8 +18,6 @@ from numba import njit
 from microslip import _jit_cache  # noqa: F401  (registers the cache before any @njit)
 from microslip.model.coefficients import (
     AREA_CN,
-    DAMPING_KIND,
-    EXCITATION_KIND,
     EXPONENT,
     FORCE,
     GRAVITY,
@@ -27,20 +25,22 @@ from microslip.model.coefficients import (
     MU,
 )
 from microslip.model.contact import elastic_force
-from microslip.model.system import N_STATE, XDOT, YDOT, X, Y
+from microslip.model.system import N_STATE, XDOT, YDOT, X, Y, is_paper_model
 
 # Rows of the per-block structure-of-arrays scratch (one column per lane).
 # The lane's state in the model's layout (rows 0 .. N_STATE - 1); the fast pass below
 # is the paper's model and reads its variables by the names of model.system.
 _S = 0
 _Y, _YD, _X, _XD = _S + Y, _S + YDOT, _S + X, _S + XDOT
-_DIR = 4  # friction mode: sliding direction ±1, 0 stick
-_T = 5  # lane time if off the grid, else -1
-_G, _SCN, _M2, _M, _IM = 6, 7, 8, 9, 10  # g, S c_n, m2, m, 1/m
-_FE, _DMU = 11, 12  # F if sliding else 0; direction·μ (so that ẍ = (FE - DMU |R|)/m)
-_TLO, _THI = 13, 14  # band of y where the friction test μ|R(y)| < threshold flips
-_FLAG = 15
-_S1 = 16  # the trial step, also for flagged lanes (rows _S1 .. _S1 + N_STATE - 1)
+# The paper's lanes leave the other state variables (those of a compliant tangential
+# contact) unchanged: their rates are 0 with a rigid contact (model.system).
+_DIR = _S + N_STATE  # friction mode: sliding direction ±1, 0 stick
+_T = _DIR + 1  # lane time if off the grid, else -1
+_G, _SCN, _M2, _M, _IM = _T + 1, _T + 2, _T + 3, _T + 4, _T + 5  # g, S c_n, m2, m, 1/m
+_FE, _DMU = _T + 6, _T + 7  # F if sliding else 0; direction·μ (ẍ = (FE - DMU |R|)/m)
+_TLO, _THI = _T + 8, _T + 9  # band of y where the friction test μ|R(y)| < threshold flips
+_FLAG = _T + 10
+_S1 = _FLAG + 1  # the trial step, also for flagged lanes (rows _S1 .. _S1 + N_STATE - 1)
 _Y1, _YD1, _X1, _XD1 = _S1 + Y, _S1 + YDOT, _S1 + X, _S1 + XDOT
 _GEN = _S1 + N_STATE  # 1 for a lane of any other model than the paper's: always flagged
 _ROWS = _GEN + 1
@@ -131,6 +131,8 @@ def _vector_pass(lanes, h, buf, mode):
         buf[_YD1, i] = yd1
         buf[_X1, i] = x1
         buf[_XD1, i] = xd1
+        for j in range(_XD + 1, _S + N_STATE):  # the contact point's rows: rates 0 here
+            buf[_S1 - _S + j, i] = buf[j, i]
         buf[_Y, i] = y if flag else y1
         buf[_YD, i] = yd if flag else yd1
         buf[_X, i] = x if flag else x1
@@ -204,7 +206,7 @@ def init_lane(buf, i, state, direction, c):
     buf[_M2, i] = c[EXPONENT]
     buf[_M, i] = c[MASS]
     buf[_IM, i] = 1.0 / c[MASS]
-    buf[_GEN, i] = 0.0 if c[DAMPING_KIND] == 0.0 and c[EXCITATION_KIND] == 0.0 else 1.0
+    buf[_GEN, i] = 0.0 if is_paper_model(c) else 1.0
     set_mode(buf, i, direction, c)
     if buf[_GEN, i] != 0.0:
         return _UNIT_MASS  # its vector step is discarded: it does not constrain the block

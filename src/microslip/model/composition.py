@@ -7,6 +7,15 @@ frozen object (``None`` is the paper's choice):
 
     damping     Viscous(ratio) | HuntCrossley(ratio)                 model/damping.py
     excitation  HarmonicForce | BaseMotion | PrescribedPenetration   model/excitation.py
+    tangential  Rigid() | TangentialSpring(stiffness) | MindlinSpring(ratio)
+                                                                     model/tangential.py
+    friction    Coulomb() | StaticKinetic(mu_static, mu_kinetic) | Stribeck(...)
+                                                                     model/friction.py
+    drive       ConstantForce(force) | HarmonicDrive | SpringDrive | PrescribedVelocity
+                                                                     model/drive.py
+
+``Rigid()`` and ``Coulomb()`` are the paper's choices spelled out (as ``None``). With
+``drive=None`` the constant force is given to each analysis (``force=``).
 
 Every numeric field of every part has a dotted name ("damping.ratio",
 "excitation.frequency"); the contact constants are the bare Parameters names ("mu",
@@ -21,10 +30,14 @@ from typing import Any
 
 import numpy as np
 
-from microslip.model import damping, excitation  # noqa: F401  (their parts register)
+from microslip import validation as check
+from microslip.model import damping, drive, excitation, friction, tangential  # noqa: F401
 from microslip.model.coefficients import pack as pack_paper
 from microslip.model.damping import HuntCrossley, Viscous
+from microslip.model.drive import ConstantForce, HarmonicDrive, PrescribedVelocity, SpringDrive
 from microslip.model.excitation import BaseMotion, HarmonicForce, PrescribedPenetration
+from microslip.model.friction import Coulomb, StaticKinetic, Stribeck
+from microslip.model.tangential import MindlinSpring, Rigid, TangentialSpring
 from microslip.model.parameters import Parameters
 from microslip.model.parts import REGISTRY, Part
 
@@ -33,7 +46,8 @@ __all__ = ["PART_TYPES", "Model", "as_model"]
 #: The slots of a Model and the part types each one accepts (None: the paper's choice);
 #: filled by the part modules themselves (:data:`microslip.model.parts.REGISTRY`).
 PART_TYPES: dict[str, tuple[type, ...]] = {
-    slot: tuple(REGISTRY[slot]) for slot in ("damping", "excitation")
+    slot: tuple(REGISTRY[slot])
+    for slot in ("damping", "excitation", "tangential", "friction", "drive")
 }
 
 
@@ -49,11 +63,21 @@ class Model:
         Normal damping of the contact; ``None``: the paper's elastic contact.
     excitation : HarmonicForce, BaseMotion or PrescribedPenetration, optional
         Normal excitation; ``None``: the paper's free normal vibration.
+    tangential : Rigid, TangentialSpring or MindlinSpring, optional
+        Tangential contact; ``None`` or ``Rigid()``: the paper's rigid contact.
+    friction : Coulomb, StaticKinetic or Stribeck, optional
+        Friction law; ``None`` or ``Coulomb()``: Coulomb with ``params.mu`` (eq. 2.2).
+    drive : ConstantForce, HarmonicDrive, SpringDrive or PrescribedVelocity, optional
+        Tangential drive; ``None``: a constant force given to each analysis
+        (``force=``), the paper's Sec. 4.
     """
 
     params: Parameters = field(default_factory=Parameters)
     damping: Viscous | HuntCrossley | None = None
     excitation: HarmonicForce | BaseMotion | PrescribedPenetration | None = None
+    tangential: Rigid | TangentialSpring | MindlinSpring | None = None
+    friction: Coulomb | StaticKinetic | Stribeck | None = None
+    drive: ConstantForce | HarmonicDrive | SpringDrive | PrescribedVelocity | None = None
 
     def __post_init__(self) -> None:
         if not isinstance(self.params, Parameters):
@@ -69,16 +93,55 @@ class Model:
                 )
             if part is not None:
                 part.check(self.params)
+        if isinstance(self.friction, Stribeck) and self.is_compliant:
+            raise ValueError(
+                "friction=Stribeck needs tangential=Rigid(): a massless contact point under "
+                "velocity-weakening friction has no unique motion "
+                "(docs/theory/friction_reduction.md); use StaticKinetic with a compliant contact"
+            )
 
     # -- parts ---------------------------------------------------------------------------
     def parts(self) -> dict[str, Part | None]:
         """The parts by slot name (``None`` where the paper's choice is kept)."""
         return {slot: getattr(self, slot) for slot in PART_TYPES}
 
+    def paper_choice(self, slot: str) -> bool:
+        """True when ``slot`` holds the paper's choice (``None``, ``Rigid()``, ``Coulomb()``)."""
+        part = getattr(self, slot)
+        return part is None or part.paper_equivalent
+
     @property
     def is_paper(self) -> bool:
         """True when every part is the paper's choice (only ``params`` may differ)."""
-        return all(part is None for part in self.parts().values())
+        return all(self.paper_choice(slot) for slot in PART_TYPES)
+
+    @property
+    def is_compliant(self) -> bool:
+        """True with a compliant tangential contact (a contact point and a spring)."""
+        return not self.paper_choice("tangential")
+
+    @property
+    def is_kinematic(self) -> bool:
+        """True with a prescribed body velocity (:class:`PrescribedVelocity`)."""
+        return isinstance(self.drive, PrescribedVelocity)
+
+    def resolve_force(self, force: float | None) -> float:
+        """The constant force [N] to pack: ``force`` (required) with ``drive=None``; the
+        drive's own force with ``ConstantForce``; 0 with any other drive (then ``force``
+        must not be given)."""
+        if self.drive is None:
+            if force is None:
+                raise ValueError(
+                    "force is required: the model has no drive (give force=F in N, or "
+                    "drive=ms.ConstantForce(F) / another drive)"
+                )
+            return check.force(self.params, force)
+        if force is not None:
+            raise ValueError(
+                f"force={force!r} conflicts with the model's drive "
+                f"{type(self.drive).__name__}: leave force out (the drive sets it)"
+            )
+        return self.drive.force if isinstance(self.drive, ConstantForce) else 0.0
 
     @property
     def is_periodically_forced(self) -> bool:
@@ -119,6 +182,11 @@ class Model:
         if not isinstance(name, str):
             raise ValueError(f"a field name must be a string, got {name!r}")
         short = name.removeprefix("params.")
+        if short == "mu" and self.friction is not None and self.friction.owns_mu:
+            raise ValueError(
+                f"{name!r} is not used with friction={type(self.friction).__name__}: change "
+                "friction.mu_static / friction.mu_kinetic instead"
+            )
         if short in self.numeric_fields():
             return short
         slot = name.split(".", 1)[0]

@@ -42,6 +42,11 @@ class Part:
 
     #: Name of the slot this part fills in a Model ("damping", "excitation", ...).
     slot: ClassVar[str] = ""
+    #: True for a part that is the paper's choice spelled out (``Rigid()``, ``Coulomb()``):
+    #: a model holding it is treated as holding ``None``.
+    paper_equivalent: ClassVar[bool] = False
+    #: True for a friction law with its own coefficients (``Parameters.mu`` unused).
+    owns_mu: ClassVar[bool] = False
 
     def __init_subclass__(cls, **kwargs: Any) -> None:
         super().__init_subclass__(**kwargs)

@@ -3,9 +3,14 @@
 This is the only module that knows what the state variables mean. The integrators see
 
 * a state ``s``: a float64 array of :data:`N_STATE` values, here
-  s = [y [m], ẏ [m/s], x [m], ẋ [m/s]] (y > 0 penetration, eq. 2.3; with a prescribed
-  penetration y, ẏ carry δ, δ̇);
-* an opaque ``mode`` (a float): today the sliding direction sgn ẋ = ±1, or 0 for stick;
+  s = [y [m], ẏ [m/s], x [m], ẋ [m/s], u [m], f [N]]: the body's normal and tangential
+  motion (y > 0 penetration, eq. 2.3; with a prescribed penetration y, ẏ carry δ, δ̇),
+  the contact point u and the tangential spring force f of a compliant tangential
+  contact (both constant with a rigid one: the friction then acts on the body);
+* an opaque ``mode`` (a float): the slip direction of the interface, ±1, or 0 for stick.
+  The interface is the body with a rigid tangential contact (sgn ẋ, eq. 2.2), the
+  contact point with a compliant one (sgn u̇; in flight the mode is only a label that
+  touchdown resets);
 * the coefficient vector ``c`` (:mod:`microslip.model.coefficients`);
 
 and call :func:`derivatives` within a mode, and the switching functions, which say when
@@ -15,11 +20,15 @@ tuple, :func:`state_tuple`, or as an array):
     CONTACT_GAP     δ                      > 0 in contact (touchdown / lift-off at δ = 0)
     SEPARATION      N_raw (sign-floored)   > 0 in contact; only with damping, which can
                                            make N_raw <= 0 while δ > 0
-    STICK_MARGIN    μN - |F|               >= 0 while stick holds (eq. 2.2); stick only
-    SLIDING_SPEED   mode · ẋ               > 0 while sliding in direction ``mode``
+    STICK_MARGIN    μ_s N - |F| (rigid),   >= 0 while stick holds (eq. 2.2); stick only
+                    μ_s N - |f| (compliant)
+    SLIDING_SPEED   mode · ẋ (rigid),      > 0 while sliding in direction ``mode``
+                    mode · u̇ (compliant)
 
 The normal law is :mod:`microslip.model.normal` (contact law + damping + excitation),
-the friction limit μN and the drive F come from :mod:`microslip.model.friction`.
+the friction law :mod:`microslip.model.friction`, the drive :mod:`microslip.model.drive`,
+the tangential contact :mod:`microslip.model.tangential`; the compliant contact point is
+docs/theory/friction_reduction.md.
 """
 
 from __future__ import annotations
@@ -28,16 +37,21 @@ import numpy as np
 from numba import njit
 
 from microslip import _jit_cache  # noqa: F401  (registers the cache before any @njit)
+from microslip.model.coefficients import (
+    DAMPING_KIND,
+    DRIVE_KIND,
+    EXCITATION_KIND,
+    FRICTION_KIND,
+    GRAVITY,
+    MASS,
+    STATIC_DEFLECTION,
+    TANGENTIAL_KIND,
+)
 from microslip.model.contact import elastic_force, elastic_stiffness
 from microslip.model.damping import can_separate_in_overlap, damped_force, damped_force_partials
+from microslip.model.drive import drive_force, drive_force_rate, is_kinematic
 from microslip.model.excitation import is_prescribed
-from microslip.model.friction import (
-    drive_force,
-    drive_force_rate,
-    friction_limit,
-    friction_limit_rate,
-    slip_acceleration,
-)
+from microslip.model.friction import friction_limit, friction_limit_rate, kinetic_coefficient
 from microslip.model.normal import (
     gap,
     normal_acceleration,
@@ -45,6 +59,7 @@ from microslip.model.normal import (
     normal_force_rate,
     raw_normal_force,
 )
+from microslip.model.tangential import is_compliant, tangential_stiffness
 
 __all__ = [
     "CONTACT_GAP",
@@ -56,10 +71,13 @@ __all__ = [
     "STICK_MARGIN",
     "apply_switch",
     "derivatives",
+    "full_states",
     "holds_only_inside",
     "in_contact",
     "initial_mode",
     "inside",
+    "interface_samples",
+    "is_paper_model",
     "normal_samples",
     "state_array",
     "state_tuple",
@@ -70,8 +88,8 @@ __all__ = [
 
 # State layout. Only this module (and the paper-model fast pass of the batched kernel,
 # which imports these names) indexes the state by meaning.
-N_STATE = 4
-Y, YDOT, X, XDOT = 0, 1, 2, 3
+N_STATE = 6
+Y, YDOT, X, XDOT, U, FT = 0, 1, 2, 3, 4, 5
 
 # Switching functions.
 CONTACT_GAP = 0
@@ -114,21 +132,86 @@ def state_tuple(s):
     through compiled calls, while an array argument is reference-counted (atomic
     operations) at every call, which costs more than the laws themselves.
     """
-    return (s[Y], s[YDOT], s[X], s[XDOT])
+    return (s[Y], s[YDOT], s[X], s[XDOT], s[U], s[FT])
+
+
+@njit(cache=True, inline="always")
+def is_paper_model(c):
+    """True for the paper's composition: no damping, free normal vibration, rigid
+    tangential contact, Coulomb friction, constant force."""
+    return (
+        c[DAMPING_KIND] == 0.0
+        and c[EXCITATION_KIND] == 0.0
+        and c[TANGENTIAL_KIND] == 0.0
+        and c[FRICTION_KIND] == 0.0
+        and c[DRIVE_KIND] == 0.0
+    )
+
+
+@njit(cache=True, inline="always")
+def _body_slip_acceleration(normal, t, s, mode, c):
+    """ẍ [m/s^2] of a body on a rigid contact sliding in ``mode`` = sgn ẋ (eqs. 2.2,
+    2.5): m ẍ = F(t, x) - μ(|ẋ|) N sgn ẋ; 0 in stick (mode 0) and with the kinematic
+    drive."""
+    if mode == 0.0 or is_kinematic(c):
+        return 0.0
+    friction = kinetic_coefficient(s[XDOT], c) * normal
+    return (drive_force(t, s[X], c) - mode * friction) / c[MASS]
+
+
+@njit(cache=True, inline="always")
+def _contact_point_rates(t, s, mode, normal, c):
+    """(u̇ [m/s], ḟ [N/s]) of the compliant contact point.
+
+    Flight (N = 0): the spring is relaxed and follows the body (u̇ = ẋ, ḟ = 0). Stick:
+    u̇ = 0, ḟ = k_t ẋ (the incremental law, k_t = k_t(δ) for Mindlin). Slip in ``mode``:
+    f = μ_k N mode stays on the limit, ḟ = μ_k Ṅ mode, and the spring's extension
+    x - u follows it, u̇ = ẋ - ḟ / k_t.
+    """
+    xdot = s[XDOT]
+    if normal <= 0.0:
+        return xdot, 0.0
+    y = s[Y]
+    ydot = s[YDOT]
+    stiffness = tangential_stiffness(gap(t, y, ydot, c)[0], c)
+    if mode == 0.0:
+        return 0.0, stiffness * xdot
+    force_rate = mode * kinetic_coefficient(0.0, c) * normal_force_rate(t, y, ydot, c)
+    if stiffness <= 0.0:
+        return xdot, force_rate
+    return xdot - force_rate / stiffness, force_rate
+
+
+@njit(cache=True, inline="always")
+def _body_acceleration(normal, t, s, mode, c):
+    """ẍ [m/s^2] of the body in ``mode``."""
+    if is_compliant(c):
+        if is_kinematic(c):
+            return 0.0
+        return (drive_force(t, s[X], c) - s[FT]) / c[MASS]
+    return _body_slip_acceleration(normal, t, s, mode, c)
 
 
 # Inlined into the steps (one call site each): see integrators/steppers.py.
 @njit(cache=True, inline="always")
 def derivatives(t, s, mode, c):
-    """ṡ = (ẏ, ÿ, ẋ, ẍ) of eqs. (2.4)–(2.5) with the composed normal law, a tuple in
-    the state layout; ``s`` is a state tuple (:func:`state_tuple`) or array."""
+    """ṡ = (ẏ, ÿ, ẋ, ẍ, u̇, ḟ) of eqs. (2.4)–(2.5) with the composed normal law, the
+    drive and the tangential contact, a tuple in the state layout; ``s`` is a state
+    tuple (:func:`state_tuple`) or array."""
     y = s[Y]
     yd = s[YDOT]
+    normal = normal_force(t, y, yd, c)
+    if is_compliant(c):
+        udot, fdot = _contact_point_rates(t, s, mode, normal, c)
+    else:
+        udot, fdot = 0.0, 0.0
     return (
         yd,
         normal_acceleration(t, y, yd, c),
         s[XDOT],
-        slip_acceleration(normal_force(t, y, yd, c), t, mode, c),
+        _body_acceleration(normal, t, s, mode, c),
+        udot,
+        fdot,
     )
 
 
@@ -171,6 +254,51 @@ def holds_only_inside(which):
     return which == STICK_MARGIN or which == SLIDING_SPEED
 
 
+@njit(cache=True, inline="always")
+def _held_force(t, s, c):
+    """The force the interface holds in stick [N]: the drive F(t, x) on a rigid
+    contact, the spring force f on a compliant one."""
+    if is_compliant(c):
+        return s[FT]
+    return drive_force(t, s[X], c)
+
+
+@njit(cache=True, inline="always")
+def _interface_velocity(t, s, mode, c):
+    """Velocity [m/s] of the interface in ``mode``: ẋ (rigid) or u̇ (compliant)."""
+    if is_compliant(c):
+        return _contact_point_rates(t, s, mode, normal_force(t, s[Y], s[YDOT], c), c)[0]
+    return s[XDOT]
+
+
+# Step [in units of sqrt(y0/g), a time scale of the normal motion] of the central
+# difference of the contact point's velocity along the motion: its exact rate needs
+# d²N/dt², which no law provides. The difference is used only for Newton steps and the
+# extremum screening of the switching logic, which a relative error ~1e-9 does not upset.
+_RATE_STEP = 1e-7
+
+
+@njit(cache=True, inline="always")
+def _contact_point_acceleration(t, s, mode, c):
+    """ü [m/s^2] of a sliding compliant contact point, by a central difference along
+    the flow of :func:`derivatives` (see ``_RATE_STEP``)."""
+    eps = _RATE_STEP * (c[STATIC_DEFLECTION] / c[GRAVITY]) ** 0.5
+    d = derivatives(t, s, mode, c)
+    plus = (
+        s[Y] + eps * d[0], s[YDOT] + eps * d[1], s[X] + eps * d[2],
+        s[XDOT] + eps * d[3], s[U] + eps * d[4], s[FT] + eps * d[5],
+    )  # fmt: skip
+    minus = (
+        s[Y] - eps * d[0], s[YDOT] - eps * d[1], s[X] - eps * d[2],
+        s[XDOT] - eps * d[3], s[U] - eps * d[4], s[FT] - eps * d[5],
+    )  # fmt: skip
+    ahead = _contact_point_rates(t + eps, plus, mode, normal_force(t + eps, plus[0], plus[1], c), c)
+    behind = _contact_point_rates(
+        t - eps, minus, mode, normal_force(t - eps, minus[0], minus[1], c), c
+    )
+    return (ahead[0] - behind[0]) / (2.0 * eps)
+
+
 # error_model="numpy": no ZeroDivisionError branch (the only division is by the mass),
 # which would keep numba from dropping the reference counts of its callers' arrays.
 @njit(cache=True, error_model="numpy")
@@ -185,8 +313,8 @@ def switching_value(which, t, s, mode, c):
         delta, delta_rate, _ = gap(t, y, yd, c)
         return _separation_value(delta, delta_rate, c)
     if which == STICK_MARGIN:
-        return friction_limit(normal_force(t, y, yd, c), c) - abs(drive_force(t, c))
-    return mode * s[XDOT]
+        return friction_limit(normal_force(t, y, yd, c), c) - abs(_held_force(t, s, c))
+    return mode * _interface_velocity(t, s, mode, c)
 
 
 @njit(cache=True, error_model="numpy")
@@ -205,10 +333,15 @@ def switching_rate(which, t, s, mode, c):
         delta_accel = third if is_prescribed(c) else normal_acceleration(t, y, yd, c) - third
         return d_delta * delta_rate + d_rate * delta_accel
     if which == STICK_MARGIN:
-        force = drive_force(t, c)
         rate = friction_limit_rate(normal_force_rate(t, y, yd, c), c)
-        return rate - sign(force) * drive_force_rate(t, c)
-    return mode * slip_acceleration(normal_force(t, y, yd, c), t, mode, c)
+        if is_compliant(c):
+            held_rate = _contact_point_rates(t, s, 0.0, normal_force(t, y, yd, c), c)[1]
+        else:
+            held_rate = drive_force_rate(t, s[X], s[XDOT], c)
+        return rate - sign(_held_force(t, s, c)) * held_rate
+    if is_compliant(c) and normal_force(t, y, yd, c) > 0.0:
+        return mode * _contact_point_acceleration(t, s, mode, c)
+    return mode * _body_acceleration(normal_force(t, y, yd, c), t, s, mode, c)
 
 
 @njit(cache=True)
@@ -220,13 +353,48 @@ def in_contact(t, s, c):
 
 @njit(cache=True)
 def initial_mode(t, s, c):
-    """Friction mode at a state: sgn ẋ when sliding; stick iff |F| <= μN (2.2)."""
+    """Friction mode at a state (eq. 2.2): stick iff the held force is within μ_s N.
+
+    Rigid contact: sgn ẋ when the body moves; otherwise stick iff |F| <= μ_s N, else
+    slip towards F. Compliant: stick iff |f| <= μ_s N, else slip towards f, with f set
+    to the kinetic limit μ_k N (in place in ``s``); in flight the label sgn ẋ.
+    """
+    normal = normal_force(t, s[Y], s[YDOT], c)
+    if is_compliant(c):
+        if normal <= 0.0:
+            return sign(s[XDOT])
+        if abs(s[FT]) <= friction_limit(normal, c):
+            return 0.0
+        direction = sign(s[FT])
+        s[FT] = direction * kinetic_coefficient(0.0, c) * normal
+        return direction
     if s[XDOT] != 0.0:
         return sign(s[XDOT])
-    force = drive_force(t, c)
-    if abs(force) <= friction_limit(normal_force(t, s[Y], s[YDOT], c), c):
+    force = drive_force(t, s[X], c)
+    if abs(force) <= friction_limit(normal, c):
         return 0.0
     return sign(force)
+
+
+@njit(cache=True)
+def _compliant_switch(which, t, s, mode, c):
+    """(new mode, event) of a compliant contact point after a friction switch."""
+    normal = normal_force(t, s[Y], s[YDOT], c)
+    if which == STICK_MARGIN:
+        # Slip starts towards the spring force, which drops to the kinetic limit
+        # (instantly: the contact point is massless). Where μ_s > μ_k and N falls the
+        # drop may leave nothing to slide for: the point sticks again at once.
+        direction = sign(s[FT])
+        s[FT] = direction * kinetic_coefficient(0.0, c) * normal
+        if direction * _contact_point_rates(t, s, direction, normal, c)[0] <= 0.0:
+            return 0.0, SLIP_START
+        return direction, SLIP_START
+    if normal <= 0.0:  # in flight the body reversed: only the label changes
+        return -mode, NO_EVENT
+    # The contact point comes to rest on the limit f = μ_k N sgn: it sticks (f can
+    # only fall back inside the static limit, never reverse at once).
+    s[FT] = mode * kinetic_coefficient(0.0, c) * normal
+    return 0.0, STICK_START
 
 
 @njit(cache=True)
@@ -234,9 +402,12 @@ def apply_switch(which, t, s, mode, c):
     """(new mode, event kind) after switching function ``which`` flipped at (t, s).
 
     ``s`` is the state just past the flip; it is modified in place where the switch
-    sets a variable (ẋ = 0 exactly when the slider comes to rest). A contact function
-    that flips without changing contact (the separation function while δ <= 0, the
-    gap after a separation inside the overlap) gives ``NO_EVENT``.
+    sets a variable (ẋ = 0 exactly when the slider comes to rest; the spring force of a
+    compliant contact put on its kinetic limit at a slip start or a stick, relaxed at a
+    loss of contact). A contact function that flips without changing contact (the
+    separation function while δ <= 0, the gap after a separation inside the overlap)
+    gives ``NO_EVENT``. At touchdown a compliant contact point sticks with a relaxed
+    spring (f = 0 <= μ_s N); the stick margin then decides.
     """
     if which == CONTACT_GAP or which == SEPARATION:
         delta, delta_rate, _ = gap(t, s[Y], s[YDOT], c)
@@ -248,12 +419,22 @@ def apply_switch(which, t, s, mode, c):
         else:
             before = gap_in and not sep_in
         if after and not before:
+            if is_compliant(c):
+                s[FT] = 0.0
+                s[U] = s[X]
+                return 0.0, CONTACT_MADE
             return mode, CONTACT_MADE
         if before and not after:
+            if is_compliant(c):
+                s[FT] = 0.0
+                s[U] = s[X]
+                return sign(s[XDOT]), CONTACT_LOST
             return mode, CONTACT_LOST
         return mode, NO_EVENT
+    if is_compliant(c):
+        return _compliant_switch(which, t, s, mode, c)
     if which == STICK_MARGIN:
-        return sign(drive_force(t, c)), SLIP_START
+        return sign(drive_force(t, s[X], c)), SLIP_START
     # The slider has come to rest: ẋ = 0 exactly, then stick or slide on (2.2).
     s[XDOT] = 0.0
     new_mode = initial_mode(t, s, c)
@@ -264,10 +445,32 @@ def apply_switch(which, t, s, mode, c):
     return new_mode, SLIP_REVERSAL
 
 
-def state_array(y: float, ydot: float, x: float = 0.0, xdot: float = 0.0) -> np.ndarray:
-    """A state vector [y [m], ẏ [m/s], x [m], ẋ [m/s]] in the layout above."""
+def state_array(
+    y: float,
+    ydot: float,
+    x: float = 0.0,
+    xdot: float = 0.0,
+    u: float | None = None,
+    spring_force: float = 0.0,
+) -> np.ndarray:
+    """A state vector [y [m], ẏ [m/s], x [m], ẋ [m/s], u [m], f [N]] in the layout above
+    (u defaults to x: a relaxed tangential spring when f = 0)."""
     out = np.zeros(N_STATE)
     out[Y], out[YDOT], out[X], out[XDOT] = y, ydot, x, xdot
+    out[U] = x if u is None else u
+    out[FT] = spring_force
+    return out
+
+
+def full_states(states: np.ndarray) -> np.ndarray:
+    """``states`` (shape (..., N_STATE) or (..., 4)) in the full layout: rows holding only
+    the body's (y, ẏ, x, ẋ) get a relaxed contact point, u = x and f = 0."""
+    states = np.asarray(states, dtype=np.float64)
+    if states.shape[-1] != 4:
+        return states
+    out = np.zeros((*states.shape[:-1], N_STATE))
+    out[..., :4] = states
+    out[..., U] = states[..., X]
     return out
 
 
@@ -284,3 +487,29 @@ def normal_samples(t, y, ydot, c):
         raw[k] = raw_normal_force(t[k], y[k], ydot[k], c)
         delta[k] = gap(t[k], y[k], ydot[k], c)[0]
     return force, raw, delta
+
+
+@njit(cache=True)
+def interface_samples(t, states, modes, c):
+    """(F [N], F_t [N], μ_s N [N]) at the samples: the drive force on the body, the
+    friction force on the body signed as in (2.5) (m ẍ = F + F_t) and the static limit.
+
+    Rigid: sliding F_t = -μ(|ẋ|) N sgn ẋ, stick F_t = -F. Compliant: F_t = -f (the
+    spring force). Kinematic drive: F = -F_t, the force that keeps ẋ = v.
+    """
+    n = t.shape[0]
+    drive = np.empty(n)
+    friction = np.empty(n)
+    limit = np.empty(n)
+    for k in range(n):
+        s = states[k]
+        normal = normal_force(t[k], s[Y], s[YDOT], c)
+        limit[k] = friction_limit(normal, c)
+        if is_compliant(c):
+            friction[k] = -s[FT]
+        elif modes[k] != 0.0:
+            friction[k] = -modes[k] * kinetic_coefficient(s[XDOT], c) * normal
+        else:
+            friction[k] = -drive_force(t[k], s[X], c)
+        drive[k] = -friction[k] if is_kinematic(c) else drive_force(t[k], s[X], c)
+    return drive, friction, limit
