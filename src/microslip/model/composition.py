@@ -37,9 +37,9 @@ from microslip.model.damping import HuntCrossley, Viscous
 from microslip.model.drive import ConstantForce, HarmonicDrive, PrescribedVelocity, SpringDrive
 from microslip.model.excitation import BaseMotion, HarmonicForce, PrescribedPenetration
 from microslip.model.friction import Coulomb, StaticKinetic, Stribeck
-from microslip.model.tangential import MindlinSpring, Rigid, TangentialSpring
 from microslip.model.parameters import Parameters
 from microslip.model.parts import REGISTRY, Part
+from microslip.model.tangential import MindlinSpring, Rigid, TangentialSpring
 
 __all__ = ["PART_TYPES", "Model", "as_model"]
 

@@ -73,9 +73,7 @@ class _TwoCoefficients(Part):
     slot: ClassVar[str] = "friction"
     owns_mu: ClassVar[bool] = True
     mu_static: float = part_field(0.15, "1", "static friction coefficient mu_s", _MU_LOW, _MU_HIGH)
-    mu_kinetic: float = part_field(
-        0.1, "1", "kinetic friction coefficient mu_k", _MU_LOW, _MU_HIGH
-    )
+    mu_kinetic: float = part_field(0.1, "1", "kinetic friction coefficient mu_k", _MU_LOW, _MU_HIGH)
 
     def __post_init__(self) -> None:
         super().__post_init__()
