@@ -24,6 +24,8 @@ def dop853_step(s, t, h, mode, c, rtol, atol, out, work):
 
     The error norm is DOP853's blend of its 5th- and 3rd-order estimates, each
     component scaled by atol[i] + rtol * max(|s_i|, |out_i|), as in scipy's DOP853.
+    A component with atol[i] = inf is not error-controlled and not counted in the RMS
+    norm (the model says which components it holds constant).
     ``work`` needs at least N_STAGES = 12 rows of the state size; ``out`` (not ``s``)
     holds the stage inputs until the result.
     """
@@ -139,7 +141,11 @@ def dop853_step(s, t, h, mode, c, rtol, atol, out, work):
         )
     err5 = 0.0
     err3 = 0.0
+    controlled = 0
     for i in range(n):
+        if atol[i] == math.inf:  # not error-controlled, not counted in the norm
+            continue
+        controlled += 1
         scale = atol[i] + rtol * max(abs(s[i]), abs(out[i]))
         e5 = (
             0.0
@@ -168,4 +174,4 @@ def dop853_step(s, t, h, mode, c, rtol, atol, out, work):
 
     if err5 == 0.0 and err3 == 0.0:
         return 0.0
-    return abs(h) * err5 / math.sqrt((err5 + 0.01 * err3) * n)
+    return abs(h) * err5 / math.sqrt((err5 + 0.01 * err3) * controlled)
