@@ -215,13 +215,31 @@ def event_steps_per_period(rtol: float) -> float:
 
 
 def shortest_period(model: Any) -> float:
-    """The period [s] a step must resolve: min(T0, excitation period) for a
-    :class:`~microslip.model.composition.Model`, T0 = 1/f0 for a Parameters."""
+    """The period [s] a step must resolve: T0 = 1/f0 for a Parameters; for a
+    :class:`~microslip.model.composition.Model` the shortest of T0, the excitation
+    period, the drive period (HarmonicDrive) and the tangential oscillation of the body
+    on its springs, 2π sqrt(m / (k_t + k_d)) (k_t of a compliant contact, Mindlin's at
+    the static deflection; k_d of a SpringDrive; none under a kinematic drive)."""
     params = getattr(model, "params", model)
     period = params.natural_period
     excitation = getattr(model, "excitation", None)
     if excitation is not None:
         period = min(period, excitation.period)
+    drive = getattr(model, "drive", None)
+    if drive is None or getattr(model, "is_kinematic", False):
+        stiffness = 0.0
+    else:
+        stiffness = getattr(drive, "stiffness", 0.0)
+        if getattr(drive, "frequency", 0.0) > 0.0:
+            period = min(period, 1.0 / drive.frequency)
+    tangential = getattr(model, "tangential", None)
+    if stiffness > 0.0 or (tangential is not None and not getattr(model, "is_kinematic", True)):
+        if hasattr(tangential, "stiffness"):
+            stiffness += tangential.stiffness
+        elif hasattr(tangential, "ratio"):
+            stiffness += tangential.ratio * params.contact_stiffness
+        if stiffness > 0.0:
+            period = min(period, 2.0 * math.pi * math.sqrt(params.mass / stiffness))
     return period
 
 

@@ -142,3 +142,20 @@ def test_default_save_every_bounds_the_papers_long_run():
     estimate = budget.estimate_simulation(P, duration=200.0, method="event", save_every=n)
     assert estimate.bytes < 0.5e9
     budget.check(estimate)  # within the time limit too
+
+
+def test_shortest_period_resolves_the_tangential_oscillation_and_the_drive():
+    """A stiff tangential spring under a force drive sets the step (2π sqrt(m / k)); a
+    kinematic drive removes the body's tangential dynamics; a harmonic drive adds 1/f_d."""
+    p = ms.Parameters()
+    t0 = p.natural_period
+    stiff = ms.Model(p, tangential=ms.TangentialSpring(1e9), drive=ms.ConstantForce(0.05))
+    assert budget.shortest_period(stiff) == pytest.approx(2 * math.pi * math.sqrt(p.mass / 1e9))
+    kinematic = ms.Model(p, tangential=ms.TangentialSpring(1e9), drive=ms.PrescribedVelocity(1e-3))
+    assert budget.shortest_period(kinematic) == t0
+    both = ms.Model(
+        p, tangential=ms.TangentialSpring(1e9), drive=ms.SpringDrive(stiffness=1e9, velocity=1e-4)
+    )
+    assert budget.shortest_period(both) == pytest.approx(2 * math.pi * math.sqrt(p.mass / 2e9))
+    harmonic = ms.Model(p, drive=ms.HarmonicDrive(mean=0.0, amplitude=0.1, frequency=5000.0))
+    assert budget.shortest_period(harmonic) == pytest.approx(1 / 5000.0)
