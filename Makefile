@@ -3,6 +3,10 @@
 #   make figures-ext  creates .venv if missing and writes the extensions' figures (forced
 #                     response, v(F, f) under excitation, loss of contact) to figures/ext/
 #   make test         creates .venv if missing and runs the test suite
+#   make docs         creates .venv if missing and builds the documentation (HTML, warnings
+#                     as errors, gallery and tutorial executed) into docs/_build/html
+#   make docs-check   checks the built site's links and images, and screenshots it with
+#                     headless Chromium (Debian: apt-get install chromium; not run by CI)
 PYTHON ?= python3
 VENV   ?= .venv
 BIN    := $(VENV)/bin
@@ -30,8 +34,8 @@ test: $(STAMP)
 	$(BIN)/python -m pytest -q tests
 
 lint: $(STAMP)
-	$(BIN)/ruff check src tests benchmarks tools
-	$(BIN)/ruff format --check src tests benchmarks tools
+	$(BIN)/ruff check src tests benchmarks tools examples docs/conf.py docs/_ext docs/tutorial
+	$(BIN)/ruff format --check src tests benchmarks tools examples docs/conf.py docs/_ext docs/tutorial
 
 format: $(STAMP)
 	$(BIN)/ruff format src tests benchmarks tools
@@ -52,3 +56,15 @@ clean:
 	rm -rf $(VENV) $(FIGDIR) .pytest_cache
 	rm -rf "$${MICROSLIP_CACHE_DIR:-$${XDG_CACHE_HOME:-$$HOME/.cache}/microslip}"/jit-*
 	find src -path '*/__pycache__/*' \( -name '*.nbi' -o -name '*.nbc' \) -delete
+
+# Documentation (docs/, examples/): see docs/conf.py. tests/integration/test_docs.py builds
+# it the same way and checks the site; docs-check adds screenshots in a real browser.
+.PHONY: docs docs-check
+DOCSDIR ?= docs/_build/html
+
+docs: $(STAMP)
+	$(BIN)/sphinx-build -W --keep-going -b html docs $(DOCSDIR)
+
+docs-check: docs
+	$(BIN)/python tools/docs/check_site.py $(DOCSDIR)
+	$(BIN)/python tools/docs/screenshots.py $(DOCSDIR) --out docs/_build/screenshots
