@@ -325,7 +325,7 @@ def simulate(
         xdot=raw.states[:, XDOT],
         u=raw.states[:, U],
         spring_force=raw.states[:, FT],
-        direction=raw.direction,
+        direction=np.sign(raw.direction),  # a compliant point in flight: ±2 -> ±1
         event_t=raw.event_t,
         event_kind=raw.event_kind,
         event_states=raw.event_states,

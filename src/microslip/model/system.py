@@ -9,8 +9,9 @@ This is the only module that knows what the state variables mean. The integrator
   contact (both constant with a rigid one: the friction then acts on the body);
 * an opaque ``mode`` (a float): the slip direction of the interface, ±1, or 0 for stick.
   The interface is the body with a rigid tangential contact (sgn ẋ, eq. 2.2), the
-  contact point with a compliant one (sgn u̇; in flight the mode is only a label that
-  touchdown resets);
+  contact point with a compliant one (sgn u̇); a compliant contact point in flight has
+  mode ±2 (its flight law, f = 0 and u̇ = ẋ, until the touchdown is applied: the law
+  never changes inside a trial step);
 * the coefficient vector ``c`` (:mod:`microslip.model.coefficients`);
 
 and call :func:`derivatives` within a mode, and the switching functions, which say when
@@ -169,7 +170,7 @@ def _contact_point_rates(t, s, mode, normal, c):
     x - u follows it, u̇ = ẋ - ḟ / k_t.
     """
     xdot = s[XDOT]
-    if normal <= 0.0:
+    if normal <= 0.0 or abs(mode) == FLIGHT:
         return xdot, 0.0
     y = s[Y]
     ydot = s[YDOT]
@@ -232,7 +233,7 @@ def switch_active(which, mode, c):
         return can_separate_in_overlap(c)
     if which == STICK_MARGIN:
         return mode == 0.0
-    return mode != 0.0
+    return mode == 1.0 or mode == -1.0
 
 
 @njit(cache=True, inline="always")
@@ -351,6 +352,14 @@ def in_contact(t, s, c):
     return delta > 0.0 and _separation_value(delta, delta_rate, c) > 0.0
 
 
+FLIGHT = 2.0  # |mode| of a compliant contact point in flight (its law until touchdown)
+
+
+@njit(cache=True, inline="always")
+def _flight_mode(s):
+    return -FLIGHT if s[XDOT] < 0.0 else FLIGHT
+
+
 @njit(cache=True)
 def initial_mode(t, s, c):
     """Friction mode at a state (eq. 2.2): stick iff the held force is within μ_s N.
@@ -362,11 +371,15 @@ def initial_mode(t, s, c):
     normal = normal_force(t, s[Y], s[YDOT], c)
     if is_compliant(c):
         if normal <= 0.0:
-            return sign(s[XDOT])
+            return _flight_mode(s)
         if abs(s[FT]) <= friction_limit(normal, c):
             return 0.0
         direction = sign(s[FT])
+        held = s[FT]
         s[FT] = direction * kinetic_coefficient(0.0, c) * normal
+        stiffness = tangential_stiffness(gap(t, s[Y], s[YDOT], c)[0], c)
+        if stiffness > 0.0:
+            s[U] += (held - s[FT]) / stiffness
         return direction
     if s[XDOT] != 0.0:
         return sign(s[XDOT])
@@ -385,7 +398,12 @@ def _compliant_switch(which, t, s, mode, c):
         # (instantly: the contact point is massless). Where μ_s > μ_k and N falls the
         # drop may leave nothing to slide for: the point sticks again at once.
         direction = sign(s[FT])
+        held = s[FT]
         s[FT] = direction * kinetic_coefficient(0.0, c) * normal
+        # the massless point jumps as the spring recovers (f = k_t (x - u))
+        stiffness = tangential_stiffness(gap(t, s[Y], s[YDOT], c)[0], c)
+        if stiffness > 0.0:
+            s[U] += (held - s[FT]) / stiffness
         if direction * _contact_point_rates(t, s, direction, normal, c)[0] <= 0.0:
             return 0.0, SLIP_START
         return direction, SLIP_START
@@ -428,7 +446,7 @@ def apply_switch(which, t, s, mode, c):
             if is_compliant(c):
                 s[FT] = 0.0
                 s[U] = s[X]
-                return sign(s[XDOT]), CONTACT_LOST
+                return _flight_mode(s), CONTACT_LOST
             return mode, CONTACT_LOST
         return mode, NO_EVENT
     if is_compliant(c):

@@ -20,7 +20,7 @@ def sweep(
     model_or_params: Model | Parameters | None = None,
     axes: Mapping[str, Any] | None = None,
     *,
-    force: Any,
+    force: Any = None,
     amplitude: Any = None,
     method: str = "steady",
     duration: float | None = None,
@@ -32,7 +32,8 @@ def sweep(
     amplitude_chunk: int | None = None,
     allow_large: bool = False,
 ) -> xr.DataArray:
-    """Mean sliding velocity [m/s] over any numeric fields of a model, force and amplitude.
+    """Mean sliding velocity [m/s] over any numeric fields of a model, force and amplitude;
+    or, for a model driven at a prescribed velocity, the effective friction coefficient.
 
     Parameters
     ----------
@@ -45,7 +46,11 @@ def sweep(
         building the Model (its own one-line message names the field). Every axis,
         force and amplitude included, holds distinct values (at most 1e7).
     force : float or array
-        Tangential force F in [0, 1e6 m g] [N] (for every swept parameter set).
+        Tangential force F in [0, 1e6 m g] [N] (for every swept parameter set). Not
+        given for a model with ``drive=PrescribedVelocity``: then the result is μ_eff
+        [-] over the axes (e.g. ``{"drive.velocity": v, "excitation.amplitude": a}``),
+        computed in memory by :mod:`microslip.sweeps.friction_sweep` (``store``,
+        ``scheduler`` and ``workers`` are refused there).
     amplitude : float or array
         Free vibration only: amplitude A = y0 - y_min in [0, 1e3 y0] [m]; the last
         two dimensions are then ("force", "amplitude"). A model with a normal
@@ -87,6 +92,17 @@ def sweep(
         (*axes, "force") (forced), ``units`` attrs on it and its coordinates, and the
         model's parts as attrs (:meth:`Model.to_attrs`).
     """
+    if isinstance(model_or_params, Model) and model_or_params.is_kinematic:
+        return _friction_sweep(
+            model_or_params, axes, force=force, amplitude=amplitude, method=method,
+            duration=duration, dt=dt, scheduler=scheduler, workers=workers, store=store,
+            progress=progress, amplitude_chunk=amplitude_chunk,
+        )  # fmt: skip
+    if force is None:
+        raise ValueError(
+            "force is required (N): the mean velocity is swept over forces; for the "
+            "effective friction give the model drive=ms.PrescribedVelocity(v)"
+        )
     workers = check_workers(workers)  # before anything is built or started
     if store is not None:
         store = check_store_path(store)
@@ -108,6 +124,28 @@ def sweep(
             stacklevel=2,
         )
     return velocity
+
+
+def _friction_sweep(model: Model, axes, *, force, amplitude, progress, **options) -> xr.DataArray:
+    """The μ_eff sweep of a kinematically driven model; options it cannot honour refused."""
+    from microslip.sweeps.friction_sweep import friction_sweep
+
+    if force is not None:
+        raise ValueError(
+            f"force={force!r} does not apply: the model's drive PrescribedVelocity sets the "
+            "motion and the sweep gives the effective friction coefficient"
+        )
+    if options.pop("method") != "steady":
+        raise ValueError("method='time' does not apply to an effective-friction sweep")
+    for name, value in options.items():
+        if value is not None:
+            raise ValueError(
+                f"{name}={value!r} is not supported by effective-friction sweeps (computed "
+                "in memory, one shared normal motion per curve)"
+            )
+    if not isinstance(progress, bool):
+        raise ValueError(f"progress must be True or False, got {progress!r}")
+    return friction_sweep(model, axes or {}, amplitude=amplitude, progress=progress)
 
 
 _SWEEP_OPTIONS = (
