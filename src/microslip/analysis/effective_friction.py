@@ -68,9 +68,9 @@ class EffectiveFriction:
         μ_eff / μ_k [-].
     v_tilde : float
         Dimensionless drive speed ṽ = k_t |v| / (μ_k max|dN/dt|) [-]; nan with a rigid
-        contact or a constant N. Mindlin: k_t at the static (or mean) penetration.
         contact or a constant N. Mindlin: k_t at the static (or mean) penetration;
         max|dN/dt| sampled at the quadrature nodes (>= 512 per period, ~1e-5 relative).
+    mean_friction_force, mean_normal_force : float
         <F_t> [N] and <N> [N] over a period.
     stick_fraction : float
         Fraction of the period [-] the contact point sticks (in contact).
