@@ -140,8 +140,22 @@ def test_trajectory_at_default_tolerances(name):
     assert max(errors.values()) < 1e-8, errors
 
 
+def _kept(times, kinds):
+    """Switches compared: not at t = 0 (a start in flight may count as a slip there),
+    and a grazing touchdown where the point slides at once counts once: a stick of zero
+    length (contact_made, then slip_start at the same instant) is the same motion as
+    a contact_made that slides."""
+    kinds = list(kinds)
+    keep = times > 1e-9 * T0
+    for i in range(1, len(kinds)):
+        if (kinds[i] == "slip_start" and kinds[i - 1] == "contact_made"
+                and times[i] - times[i - 1] <= 1e-9 * T0):  # fmt: skip
+            keep[i] = False
+    return keep
+
+
 def _switches(times, kinds):
-    keep = times > 1e-9 * T0  # a start in flight may count as a slip at t = 0
+    keep = _kept(times, kinds)
     return times[keep], [k for k, flag in zip(kinds, keep, strict=True) if flag]
 
 
@@ -155,8 +169,8 @@ def test_switching_instants_match_scipy(name):
     np.testing.assert_allclose(mine, theirs, rtol=0, atol=1e-9 * T0)
     # measured <= 1.2e-11 T0; the state just after each switch: body position and
     # spring force
-    keep_m = r.event_t > 1e-9 * T0
-    keep_r = ref.event_t > 1e-9 * T0
+    keep_m = _kept(r.event_t, [NAMES[k] for k in r.event_kind])
+    keep_r = _kept(ref.event_t, ref.event_kind)
     np.testing.assert_allclose(
         r.event_states[keep_m, 2], ref.event_states[keep_r, 2], rtol=0,
         atol=1e-9 * np.max(np.abs(ref.x)),

@@ -37,7 +37,7 @@ from microslip.model.contact import elastic_stiffness
 from microslip.model.drive import PrescribedVelocity
 from microslip.model.excitation import PrescribedPenetration
 from microslip.model.friction import StaticKinetic, Stribeck, kinetic_coefficient
-from microslip.model.normal import normal_force_rate
+from microslip.model.normal import normal_force, normal_force_rate
 from microslip.model.tangential import MindlinSpring, TangentialSpring
 
 __all__ = [
@@ -51,6 +51,7 @@ __all__ = [
 _GAUSS_NODES, _GAUSS_WEIGHTS = np.polynomial.legendre.leggauss(8)
 _PIECES_PER_PERIOD = 64  # a smooth piece longer than T/64 is split for the quadrature
 _MAX_PERIODS = 200
+_RATE_SAMPLES = 4096  # uniform samples of dN/dt per period for max|dN/dt|
 _FALLBACK_PERIODS = 64
 
 
@@ -197,8 +198,20 @@ def _run(model: Model, state, period: float, rtol: float, t_eval=None):
 def _steady_period(model: Model, period: float, normal, rtol: float):
     """The state at the start of a steady period, found by iterating the period map."""
     velocity = model.drive.velocity
-    scale = max(model.params.mass * model.params.g * model.pack()[MU_STATIC], 1e-300)
-    state = _start(normal, velocity)
+    c = model.pack()
+    scale = max(model.params.mass * model.params.g * c[MU_STATIC], 1e-300)
+    # Start on the kinetic limit, f = μ_k N(0) sgn v, as if slipping: the first slip
+    # then erases the start, even at drive speeds that would need many periods to load
+    # a relaxed spring.
+    if normal is None:  # prescribed penetration
+        y, ydot = model.excitation.mean + model.excitation.amplitude, 0.0
+    else:
+        y, ydot = normal
+    limit = float(kinetic_coefficient(0.0, c) * normal_force(0.0, y, ydot, c))
+    spring = math.copysign(limit, velocity) if velocity != 0.0 else 0.0
+    stiffness = _tangential_stiffness(model)
+    shift = -spring / stiffness if stiffness > 0 else 0.0
+    state = (*_start(normal, velocity)[:4], shift, spring)
     for _ in range(_MAX_PERIODS):
         run = _run(model, state, period, rtol)
         end = (
@@ -209,7 +222,7 @@ def _steady_period(model: Model, period: float, normal, rtol: float):
             float(run.u[-1] - run.x[-1]),
             float(run.spring_force[-1]),
         )
-        if abs(end[5] - state[5]) <= 1e-9 * scale and run.event_t.size > 0:
+        if abs(end[5] - state[5]) <= 1e-9 * scale:
             return end
         state = end
     raise RuntimeError(f"no periodic tangential steady state within {_MAX_PERIODS} periods")
@@ -231,12 +244,34 @@ def _quadrature_nodes(period: float, switches: np.ndarray) -> tuple[np.ndarray, 
     return np.concatenate(nodes), np.concatenate(weights)
 
 
-def _max_normal_rate(model: Model, run) -> float:
+def _max_normal_rate(model: Model, t, y, ydot) -> float:
+    """max|dN/dt| [N/s] from uniform samples, refined by the parabola through the
+    largest sample and its neighbours."""
     c = model.pack()
-    return max(
-        abs(float(normal_force_rate(t, y, yd, c)))
-        for t, y, yd in zip(run.t, run.y, run.ydot, strict=True)
+    rate = np.abs(
+        [float(normal_force_rate(a, b, d, c)) for a, b, d in zip(t, y, ydot, strict=True)]
     )
+    k = int(np.argmax(rate))
+    if 0 < k < rate.size - 1:
+        left, mid, right = rate[k - 1], rate[k], rate[k + 1]
+        curvature = left - 2.0 * mid + right
+        if curvature < 0.0:
+            return float(mid - 0.125 * (right - left) ** 2 / curvature)
+    return float(rate[k])
+
+
+def _mean_normal_force(model: Model) -> float:
+    """<N> [N]: m g for any bounded motion of the body (identity 1); the period average
+    of the law for a prescribed penetration (Gauss–Legendre, 64 x 8 nodes)."""
+    from microslip.simulation import simulate
+
+    if not isinstance(model.excitation, PrescribedPenetration):
+        return model.params.mass * model.params.g
+    period = model.excitation.period
+    nodes, weights = _quadrature_nodes(period, np.empty(0))
+    normal_model = model.replace(drive=None, tangential=None, friction=None)
+    run = simulate(normal_model, force=0.0, duration=period, t_eval=nodes)
+    return float(weights @ run.N) / period
 
 
 def effective_friction(
@@ -275,6 +310,11 @@ def effective_friction(
     weight = model.params.mass * model.params.g
     from microslip.analysis.periodic import NotPeriodOneError
 
+    if not model.is_compliant:  # identity 6: the body never sticks, F_t = μ_k(|v|) N
+        mean_n = _mean_normal_force(model)
+        return EffectiveFriction(
+            mu_k, mu_k, 1.0, math.nan, mu_k * mean_n, mean_n, 0.0, math.nan, "closed_form", 0.0
+        )
     try:
         period, normal = _normal_cycle(model, amplitude, _cycles)
     except NotPeriodOneError as error:
@@ -283,22 +323,19 @@ def effective_friction(
         return EffectiveFriction(
             mu_k, mu_k, 1.0, math.nan, mu_k * weight, weight, 0.0, math.nan, "closed_form", 0.0
         )
-    if model.is_compliant:
-        start = _steady_period(model, period, normal, rtol)
-    else:
-        start = _start(normal, model.drive.velocity)
+    start = _steady_period(model, period, normal, rtol)
     first = _run(model, start, period, rtol)
     nodes, weights = _quadrature_nodes(period, first.event_t)
-    run = _run(model, start, period, rtol, t_eval=nodes)
-    mean_n = float(weights @ run.N) / period
-    if not model.is_compliant:
-        return EffectiveFriction(
-            mu_k, mu_k, 1.0, math.nan, mu_k * mean_n, mean_n, 0.0, period, "closed_form", 0.0
-        )
+    samples = np.linspace(0.0, period, _RATE_SAMPLES + 1)
+    run = _run(model, start, period, rtol, t_eval=np.sort(np.concatenate([nodes, samples])))
+    is_node = np.isin(run.t, nodes)
+    mean_n = float(weights @ run.N[is_node]) / period
     sign = math.copysign(1.0, model.drive.velocity) if model.drive.velocity != 0 else 1.0
-    mean_f = float(weights @ (-sign * run.Ft)) / period
-    stick = float(weights @ ((run.direction == 0) & (run.N > 0))) / period
-    rate = _max_normal_rate(model, run)
+    mean_f = float(weights @ (-sign * run.Ft[is_node])) / period
+    stuck = (run.direction == 0) & (run.N > 0)
+    stick = float(weights @ stuck[is_node]) / period
+    uniform = ~is_node
+    rate = _max_normal_rate(model, run.t[uniform], run.y[uniform], run.ydot[uniform])
     v_tilde = (
         _tangential_stiffness(model) * abs(model.drive.velocity) / (mu_k * rate)
         if rate > 0 and mu_k > 0

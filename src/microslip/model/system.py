@@ -389,6 +389,31 @@ def initial_mode(t, s, c):
     return sign(force)
 
 
+# Friction limit [in units of m g] below which a touchdown is taken as grazing (N = 0+):
+# the spring, relaxed, then sticks only if the limit rises at least as fast as it loads.
+_GRAZING = 1e-12
+
+
+@njit(cache=True)
+def _touchdown_mode(t, s, c):
+    """Mode of a compliant contact point at touchdown (relaxed spring, f = 0).
+
+    With a force jump (Kelvin–Voigt) the point sticks: 0 = f < μ_s N. At a grazing
+    touchdown (N = 0+) stick holds only if μ_s dN/dt >= k_t |ẋ|; otherwise the point
+    slides with the body's direction on the limit f = μ_k N (= 0+).
+    """
+    normal = normal_force(t, s[Y], s[YDOT], c)
+    if friction_limit(normal, c) > _GRAZING * c[MASS] * c[GRAVITY] or s[XDOT] == 0.0:
+        return 0.0
+    limit_rate = friction_limit_rate(normal_force_rate(t, s[Y], s[YDOT], c), c)
+    loading = tangential_stiffness(gap(t, s[Y], s[YDOT], c)[0], c) * abs(s[XDOT])
+    if limit_rate >= loading:
+        return 0.0
+    direction = sign(s[XDOT])
+    s[FT] = direction * kinetic_coefficient(0.0, c) * normal
+    return direction
+
+
 @njit(cache=True)
 def _compliant_switch(which, t, s, mode, c):
     """(new mode, event) of a compliant contact point after a friction switch."""
@@ -424,8 +449,9 @@ def apply_switch(which, t, s, mode, c):
     compliant contact put on its kinetic limit at a slip start or a stick, relaxed at a
     loss of contact). A contact function that flips without changing contact (the
     separation function while δ <= 0, the gap after a separation inside the overlap)
-    gives ``NO_EVENT``. At touchdown a compliant contact point sticks with a relaxed
-    spring (f = 0 <= μ_s N); the stick margin then decides.
+    gives ``NO_EVENT``. At touchdown a compliant contact point lands with a relaxed
+    spring (f = 0) and sticks, unless the touchdown grazes (N = 0+) and the spring
+    loads faster than the limit rises (:func:`_touchdown_mode`).
     """
     if which == CONTACT_GAP or which == SEPARATION:
         delta, delta_rate, _ = gap(t, s[Y], s[YDOT], c)
@@ -440,7 +466,7 @@ def apply_switch(which, t, s, mode, c):
             if is_compliant(c):
                 s[FT] = 0.0
                 s[U] = s[X]
-                return 0.0, CONTACT_MADE
+                return _touchdown_mode(t, s, c), CONTACT_MADE
             return mode, CONTACT_MADE
         if before and not after:
             if is_compliant(c):
