@@ -70,12 +70,16 @@ def cmd_info(args: argparse.Namespace) -> int:
     opts = gather(args, "info")
     model = opts.model()
     table = opts.params.describe()
+    if model.friction is not None and model.friction.owns_mu:
+        unused = f"(unused: friction {type(model.friction).__name__} has its own coefficients)"
+        for key in ("mu", "static_friction_force"):
+            table[key] = {**table[key], "description": f"{table[key]['description']} {unused}"}
     parts = _part_table(model)
     if opts.get("json", False):
         print(json.dumps({**table, **parts}, indent=2))
         return 0
     print("microslip model (Grudzinski & Kostek 2005)")
-    if not model.is_paper:
+    if any(part is not None for part in model.parts().values()):
         print(f"  parts: {model.describe()}")
     for name, entry in {**table, **parts}.items():
         print(f"  {name:22s} {entry['value']:<14.6g} {entry['unit']:12s} {entry['description']}")
@@ -86,6 +90,7 @@ def _part_table(model) -> dict[str, dict]:
     """The numeric fields of the model's parts, by dotted name, like Parameters.describe;
     with damping also its coefficient c [N s/m]."""
     from microslip.model.damping import damping_coefficient
+    from microslip.model.tangential import MindlinSpring
 
     out: dict[str, dict] = {}
     for slot, part in model.parts().items():
@@ -102,6 +107,12 @@ def _part_table(model) -> dict[str, dict]:
             "value": damping_coefficient(model.params, model.damping.ratio),
             "unit": "N s m-1",
             "description": "damping coefficient c = 2 zeta sqrt(K_n m)",
+        }
+    if isinstance(model.tangential, MindlinSpring):
+        out["tangential.stiffness_at_y0"] = {
+            "value": model.tangential.ratio * model.params.contact_stiffness,
+            "unit": "N m-1",
+            "description": "tangential stiffness k_t = lambda K_n at the static deflection",
         }
     return out
 
@@ -133,9 +144,9 @@ def cmd_simulate(args: argparse.Namespace) -> int:
     opts = gather(args, "simulate")
     params = opts.params
     model = opts.model()  # every part checked before anything runs
-    for required in ("force", "duration"):
-        if required not in opts:
-            raise CliError(f"--{required} is required (flag or [simulate] in --config)")
+    force = _simulate_force(opts, model)
+    if "duration" not in opts:
+        raise CliError("--duration is required (flag or [simulate] in --config)")
     method = _check_method(opts, ("event", "rk4"), "event")
     if method == "event":
         opts.refuse("dt", "with --method event (it adapts its step; see --rtol/--atol)")
@@ -182,7 +193,7 @@ def cmd_simulate(args: argparse.Namespace) -> int:
     started = time.perf_counter()
     result = ms.simulate(
         model,
-        force=opts["force"],
+        force=force,
         duration=duration,
         amplitude=opts.get("amplitude"),
         initial_state=initial_state,
@@ -216,6 +227,27 @@ def cmd_simulate(args: argparse.Namespace) -> int:
         out, plot, overwrite, result.to_xarray, lambda tmp: write_trajectory_plot(result, tmp)
     )
     return 0
+
+
+def _simulate_force(opts: Options, model) -> float | None:
+    """``--force`` [N]: required without a drive, refused with one (the drive sets the
+    tangential loading; :meth:`microslip.Model.resolve_force`)."""
+    if model.drive is None:
+        if "force" not in opts:
+            raise CliError(
+                "--force is required (flag or [simulate] in --config), or give a tangential "
+                "--drive {constant-force,harmonic,spring,prescribed-velocity}"
+            )
+        return opts["force"]
+    if "force" in opts:
+        drive = opts.parts["drive"]
+        hint = " (its force is --drive-force)" if drive.kind == "constant-force" else ""
+        raise CliError(
+            f"{opts.flag('force')} cannot be combined with drive {drive.kind} "
+            f"({drive.kind_origin}): the drive sets the tangential loading{hint}; remove "
+            f"{opts.flag('force')}"
+        )
+    return None
 
 
 def write_outputs(

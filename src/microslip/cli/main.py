@@ -1,9 +1,10 @@
-"""The ``microslip`` command: info, simulate, response, figures, map and sweep.
+"""The ``microslip`` command: info, simulate, response, friction, figures, map and sweep.
 
 Every command takes the model's parameters as flags (one per Parameters field, SI
 units) or from a TOML file (``--config``; flags win); every command but ``figures`` also
-takes the model's parts (``--damping``, ``--excitation`` and their fields, or the
-``[damping]`` and ``[excitation]`` tables; see :mod:`microslip.cli.model_options`).
+takes the model's parts (``--damping``, ``--excitation``, ``--tangential``,
+``--friction``, ``--drive`` and their fields, or the tables of the same names; see
+:mod:`microslip.cli.model_options`).
 Outputs are written atomically and an existing output is replaced only with
 ``--overwrite``.
 
@@ -31,6 +32,7 @@ from microslip.cli.commands import (
     cmd_info,
     cmd_simulate,
 )
+from microslip.cli.friction_command import add_friction_command
 from microslip.cli.interrupts import RUN, Terminated, handling_signals, interrupt_for
 from microslip.cli.model_options import add_part_options
 from microslip.cli.options import CliError, finite, integer, path_text, real
@@ -118,7 +120,7 @@ def _add_model_options(parser: argparse.ArgumentParser, parts: bool = True) -> N
         group.add_argument(flag, dest=name, type=real, help=text)
     if parts:
         add_part_options(parser)
-        tables = "[parameters], [damping], [excitation] and options"
+        tables = "[parameters], [damping], [excitation], [tangential], [friction], [drive], options"
     else:
         tables = "[parameters] and options"
     parser.add_argument("--config", type=path_text, help=f"TOML file with {tables}")
@@ -148,7 +150,12 @@ def _flag(parser: argparse.ArgumentParser, name: str, **kwargs) -> None:
 
 def _add_simulate(sub) -> None:
     sim = sub.add_parser("simulate", help="simulate one trajectory")
-    sim.add_argument("--force", type=finite, help="tangential force F [N] (< 0 pushes towards -x)")
+    sim.add_argument(
+        "--force",
+        type=finite,
+        help="constant tangential force F [N] (< 0 pushes towards -x); required without "
+        "--drive, refused with one (the drive sets the tangential loading)",
+    )
     start = sim.add_mutually_exclusive_group()
     start.add_argument(
         "--amplitude",
@@ -277,6 +284,7 @@ def build_parser() -> argparse.ArgumentParser:
     figs.set_defaults(handler=cmd_figures)
 
     _add_response(sub)
+    add_friction_command(sub, _add_model_options, _add_output_options)
     _add_sweeps(sub)
     return parser
 

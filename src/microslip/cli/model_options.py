@@ -5,9 +5,19 @@ Each part slot has a selector flag and one flag per numeric field (SI units)::
     --damping {none,viscous,hunt-crossley}   --damping-ratio Z
     --excitation {none,harmonic-force,base-motion,prescribed-penetration}
     --excitation-amplitude A  --excitation-frequency F  --excitation-mean D
+    --tangential {rigid,spring,mindlin}   --tangential-stiffness K  --tangential-ratio L
+    --friction {coulomb,static-kinetic,stribeck}   --friction-mu-static MU_S
+    --friction-mu-kinetic MU_K  --friction-velocity V_S  --friction-exponent Q
+    --drive {none,constant-force,harmonic,spring,prescribed-velocity}   --drive-force F
+    --drive-mean F0  --drive-amplitude F1  --drive-frequency F_D  --drive-stiffness K_D
+    --drive-velocity V
 
-and a TOML table (``[damping] law = "viscous"``, ``ratio = 0.03``; ``[excitation] kind =
-..., amplitude, frequency, mean``). Rules, all checked before anything is computed:
+and a TOML table per slot: ``law = ...`` names a physical law (``[damping]``,
+``[friction]``), ``kind = ...`` any other part (``[excitation]``, ``[tangential]``,
+``[drive]``); the other keys are the fields (:mod:`microslip.io.config`). Everything is
+driven by the one static table :data:`microslip.io.config.PART_TABLES` (class names,
+not classes, so that building the parser loads no numba). Rules, all checked before
+anything is computed:
 
 - a flag overrides the file's value of the same field; a selector flag naming another
   kind than the file's replaces the file's whole part (an amplitude in N of a harmonic
@@ -18,6 +28,10 @@ and a TOML table (``[damping] law = "viscous"``, ``ratio = 0.03``; ``[excitation
   command sets it itself (a swept field, the range of ``microslip response``);
 - values are checked by the part itself (ranges, the frequency within [1e-3 f0, 1e3 f0]),
   the message prefixed with where the value came from.
+
+A slot left out holds the paper's choice (``None``); ``--tangential rigid`` and
+``--friction coulomb`` name it explicitly (``Rigid()``, ``Coulomb()``), ``--damping none``,
+``--excitation none`` and ``--drive none`` switch off a part of the config file.
 """
 
 from __future__ import annotations
@@ -28,35 +42,22 @@ from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any
 
 from microslip.cli.options import CliError, real
+from microslip.io.config import PART_TABLES
 from microslip.model.parameters import Parameters
 
 if TYPE_CHECKING:  # the part modules load numba: imported on first use (see _part_class)
     from microslip.model.composition import Model
 
 __all__ = [
-    "DAMPING_LAWS",
-    "EXCITATION_KINDS",
     "SLOTS",
     "PartChoice",
+    "Slot",
     "add_part_options",
     "build_model",
     "gather_parts",
     "kind_name",
+    "require_paper_tangential",
 ]
-
-# Command-line kind -> class name exported by microslip. Names, not classes, so that
-# building the parser loads no numba (the Ctrl-C handler must come first).
-DAMPING_LAWS: dict[str, str | None] = {
-    "none": None,
-    "viscous": "Viscous",
-    "hunt-crossley": "HuntCrossley",
-}
-EXCITATION_KINDS: dict[str, str | None] = {
-    "none": None,
-    "harmonic-force": "HarmonicForce",
-    "base-motion": "BaseMotion",
-    "prescribed-penetration": "PrescribedPenetration",
-}
 
 
 def _part_class(slot: Slot, kind: str) -> type | None:
@@ -71,45 +72,84 @@ def _part_class(slot: Slot, kind: str) -> type | None:
 
 @dataclass(frozen=True)
 class Slot:
-    """One part slot as the command line spells it."""
+    """One part slot as the command line spells it (from :data:`PART_TABLES`)."""
 
     name: str  # the Model attribute and the TOML table: "damping"
     selector: str  # the TOML key naming the kind: "law"
     kinds: dict[str, str | None]
     fields: tuple[str, ...]  # every numeric field of any kind, in flag order
+    paper: str  # the kind of the paper's model ("none", "rigid", "coulomb")
 
     @property
     def flag(self) -> str:
         return f"--{self.name}"
 
     def field_flag(self, name: str) -> str:
-        return f"--{self.name}-{name}"
+        return f"--{self.name}-{name.replace('_', '-')}"
 
     def dest(self, name: str) -> str:
         return f"{self.name}_{name}"
 
+    def kinds_with(self, name: str) -> list[str]:
+        """The kinds that have the field ``name`` (imports the part classes)."""
+        out = []
+        for kind in self.kinds:
+            cls = _part_class(self, kind)
+            if cls is not None and name in cls.field_names():
+                out.append(kind)
+        return out
 
-SLOTS = (
-    Slot("damping", "law", DAMPING_LAWS, ("ratio",)),
-    Slot("excitation", "kind", EXCITATION_KINDS, ("amplitude", "frequency", "mean")),
-)
 
-_HELP = {
-    ("damping", None): "normal damping law of the contact (default: none, the paper's)",
-    ("damping", "ratio"): "damping ratio zeta [-] at the working point, c = 2 zeta sqrt(K_n m)",
-    ("excitation", None): "normal excitation (default: none, the paper's free vibration)",
-    ("excitation", "amplitude"): "P0 [N] for harmonic-force, Z [m] for base-motion, "
-    "Delta [m] for prescribed-penetration",
-    ("excitation", "frequency"): "excitation frequency f [Hz], within [1e-3 f0, 1e3 f0]",
-    ("excitation", "mean"): "mean penetration delta_m [m] (prescribed-penetration only)",
-}
+SLOTS = tuple(Slot(name, t.selector, t.kinds, t.fields, t.paper) for name, t in PART_TABLES.items())
+
+# (slot, field) -> (metavar, help); (slot, None): the selector's help. SI units.
+_HELP: dict[tuple[str, str | None], tuple[str, str]] = {
+    ("damping", None): ("", "normal damping law of the contact (default: none, the paper's)"),
+    ("damping", "ratio"): (
+        "ZETA", "damping ratio zeta [1] at the working point, c = 2 zeta sqrt(K_n m)"),
+    ("excitation", None): ("", "normal excitation (default: none, the paper's free vibration)"),
+    ("excitation", "amplitude"): ("A", "P0 [N] for harmonic-force, Z [m] for base-motion, "
+                                  "Delta [m] for prescribed-penetration"),
+    ("excitation", "frequency"): ("F", "excitation frequency f [Hz], within [1e-3 f0, 1e3 f0]"),
+    ("excitation", "mean"): ("D", "mean penetration delta_m [m] (prescribed-penetration only)"),
+    ("tangential", None): ("", "tangential contact: rigid (default, the paper's), spring "
+                           "(constant stiffness) or mindlin (k_t = lambda dN/ddelta)"),
+    ("tangential", "stiffness"): (
+        "K", "spring: tangential stiffness k_t [N m-1], within [1e-6 K_n, 1e6 K_n]"),
+    ("tangential", "ratio"): ("L", "mindlin: ratio lambda [1] in [1e-3, 10] of k_t = lambda "
+                              "dN/ddelta (2(1-nu)/(2-nu) for elastic spheres)"),
+    ("friction", None): ("", "friction law: coulomb (default, mu of the parameters), "
+                         "static-kinetic or stribeck"),
+    ("friction", "mu_static"): ("MU_S", "static coefficient mu_s [1] >= mu_k"),
+    ("friction", "mu_kinetic"): ("MU_K", "kinetic coefficient mu_k [1]"),
+    ("friction", "velocity"): ("V_S", "stribeck: Stribeck velocity v_s [m s-1] > 0"),
+    ("friction", "exponent"): ("Q", "stribeck: shape exponent q [1] in [0.1, 10]"),
+    ("drive", None): ("", "tangential drive (default: none, the constant --force of the "
+                      "command, the paper's Sec. 4)"),
+    ("drive", "force"): ("F", "constant-force: tangential force F [N] on the body"),
+    ("drive", "mean"): ("F0", "harmonic: mean force F0 [N] of F0 + F1 sin(2 pi f_d t)"),
+    ("drive", "amplitude"): ("F1", "harmonic: force amplitude F1 [N] >= 0"),
+    ("drive", "frequency"): ("F_D", "harmonic: drive frequency f_d [Hz], within "
+                             "[1e-3 f0, 1e3 f0]"),
+    ("drive", "stiffness"): ("K_D", "spring: drive spring stiffness k_d [N m-1], within "
+                             "[1e-6 K_n, 1e6 K_n]"),
+    ("drive", "velocity"): ("V", "spring: velocity v_d [m s-1] of the spring's far end; "
+                            "prescribed-velocity: body velocity v [m s-1]"),
+}  # fmt: skip
+
+
+def _slot(name: str) -> Slot:
+    return next(s for s in SLOTS if s.name == name)
 
 
 def kind_name(slot: str, part: object | None) -> str:
-    """The command-line name of ``part``'s kind ("viscous", "harmonic-force", "none")."""
-    kinds = next(s.kinds for s in SLOTS if s.name == slot)
-    wanted = None if part is None else type(part).__name__
-    return next(name for name, cls in kinds.items() if cls == wanted)
+    """The command-line name of ``part``'s kind ("viscous", "harmonic-force"); for
+    ``None`` the paper's kind of the slot ("none", "rigid", "coulomb")."""
+    spec = _slot(slot)
+    if part is None:
+        return spec.paper
+    wanted = type(part).__name__
+    return next(name for name, cls in spec.kinds.items() if cls == wanted)
 
 
 def add_part_options(parser: argparse.ArgumentParser) -> None:
@@ -120,13 +160,14 @@ def add_part_options(parser: argparse.ArgumentParser) -> None:
             slot.flag,
             dest=slot.name,
             metavar="{" + ",".join(slot.kinds) + "}",
-            help=_HELP[(slot.name, None)],
+            help=_HELP[(slot.name, None)][1],
         )
         for name in slot.fields:
+            metavar, text = _HELP[(slot.name, name)]
             # real, not finite(): the part names the field and the rule broken
             group.add_argument(
-                slot.field_flag(name), dest=slot.dest(name), type=real,
-                metavar=name[0].upper(), help=_HELP[(slot.name, name)],
+                slot.field_flag(name), dest=slot.dest(name), type=real, metavar=metavar,
+                help=text,
             )  # fmt: skip
 
 
@@ -135,10 +176,18 @@ class PartChoice:
     """The kind and field values of one slot, with where each came from."""
 
     slot: Slot
-    kind: str = "none"
-    kind_origin: str | None = None
+    kind: str = ""  # "" until gathered: the slot's paper kind
+    kind_origin: str | None = None  # None: not given (the paper's choice, None)
     values: dict[str, float] = field(default_factory=dict)
     origin: dict[str, str] = field(default_factory=dict)
+
+    def __post_init__(self) -> None:
+        self.kind = self.kind or self.slot.paper
+
+    @property
+    def given(self) -> bool:
+        """True when the kind was chosen (flag, file, or the command itself)."""
+        return self.kind_origin is not None
 
     def origins(self) -> dict[str, str]:
         """Where each given field came from, by dotted name ("damping.ratio")."""
@@ -214,20 +263,21 @@ def _check_fields(choice: PartChoice) -> None:
     slot = choice.slot
     cls = _part_class(slot, choice.kind)
     for name, where in choice.origin.items():
-        if cls is None and choice.kind_origin is None:
+        if not choice.given:
+            kinds = ",".join(slot.kinds_with(name))
             raise CliError(
                 f"{where} is a field of the {slot.name} part, which is not given: add "
-                f"{slot.flag} {{{','.join(k for k in slot.kinds if k != 'none')}}} "
-                f"(or {slot.selector} in [{slot.name}])"
+                f"{slot.flag} {{{kinds}}} (or {slot.selector} in [{slot.name}])"
             )
         if cls is None:
             raise CliError(
                 f"{where} has no effect with {slot.name} none ({choice.kind_origin}); remove it"
             )
         if name not in cls.field_names():
+            has = ", ".join(cls.field_names()) or "none"
             raise CliError(
                 f"{where} has no effect with {slot.name} {choice.kind} ({choice.kind_origin}); "
-                f"its fields: {', '.join(cls.field_names())}"
+                f"its fields: {has}"
             )
 
 
@@ -254,7 +304,7 @@ def build_model(
             prefix, _, name = dotted.partition(".")
             if prefix != slot_name:
                 continue
-            if cls is None:
+            if cls is None or not choice.given:
                 raise CliError(
                     f"{what} sets {dotted}, but the model has no {slot_name} part: "
                     f"give one with {slot.flag}"
@@ -267,7 +317,7 @@ def build_model(
                 )
             values[name] = value
             origins[dotted] = what
-        if cls is None:
+        if cls is None or not choice.given:  # the paper's choice: None
             built[slot_name] = None
             continue
         for name in cls.field_names():
@@ -296,3 +346,21 @@ def _located(error: ValueError, origins: Mapping[str, str]) -> CliError:
         if text.startswith(dotted) or f" {dotted}" in text:
             return CliError(f"{where}: {text}")
     return CliError(text)
+
+
+def require_paper_tangential(
+    model: Model, parts: Mapping[str, PartChoice], command: str, instead: str
+) -> None:
+    """Refuse a model whose tangential side is not the paper's (rigid contact, Coulomb
+    friction, the command's own constant force) for the commands that compute with the
+    paper's constant force; one line naming where the part came from
+    (:func:`microslip.model.capabilities.require`)."""
+    from microslip.model.capabilities import TANGENTIAL_SLOTS, UnsupportedModelError, require
+
+    try:
+        require(model, f"microslip {command}", allowed={}, instead=instead)
+    except UnsupportedModelError as error:
+        where = next(
+            (parts[s].kind_origin for s in TANGENTIAL_SLOTS if not model.paper_choice(s)), None
+        )
+        raise CliError(f"{where}: {error}" if where else str(error)) from None

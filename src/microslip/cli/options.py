@@ -43,12 +43,20 @@ RESPONSE = {
     "frequencies": "pair", "amplitudes": "pair", "max_points": "int", "out": "str",
     "plot": "str", "overwrite": "bool",
 }  # fmt: skip
+FRICTION = {
+    "velocities": "values", "axis": "str", "amplitude": "float", "out": "str", "plot": "str",
+    "overwrite": "bool",
+}  # fmt: skip
 SCHEMAS = {
     "info": INFO, "simulate": SIMULATE, "figures": FIGURES, "map": MAP, "sweep": SWEEP,
-    "response": RESPONSE,
+    "response": RESPONSE, "friction": FRICTION,
 }  # fmt: skip
-#: Commands that take the model's parts (--damping, --excitation, [damping], ...).
-PART_COMMANDS = ("info", "simulate", "map", "sweep", "response")
+#: The TOML table of each command's options, where it is not the command's name:
+#: ``[friction]`` is the friction law's table, so ``microslip friction`` reads
+#: ``[effective-friction]``.
+TABLES = {"friction": "effective-friction"}
+#: Commands that take the model's parts (--damping, --tangential, [drive], ...).
+PART_COMMANDS = ("info", "simulate", "map", "sweep", "response", "friction")
 
 
 @dataclass
@@ -169,6 +177,11 @@ def _typed(kind: str, key: str, value: Any, where: str) -> Any:
     raise AssertionError(kind)  # pragma: no cover - the schemas above use known kinds
 
 
+def command_table(command: str) -> str:
+    """The TOML table holding the options of ``command``."""
+    return TABLES.get(command, command)
+
+
 def gather(args: argparse.Namespace, command: str) -> Options:
     """(Parameters, options) from the ``--config`` file, then the flags (flags win).
 
@@ -195,11 +208,12 @@ def gather(args: argparse.Namespace, command: str) -> Options:
         for key, value in parameters_from_config(data, source).items():
             param_values[key] = value
             opts.param_origin[key] = f"{key} in [parameters] of {source}"
-        where = f"{source} [{command}]"
-        known = {name: set(table) for name, table in SCHEMAS.items()}
-        for key, value in command_options(data, command, known, source).items():
+        table = command_table(command)
+        where = f"{source} [{table}]"
+        known = {command_table(name): set(keys) for name, keys in SCHEMAS.items()}
+        for key, value in command_options(data, table, known, source).items():
             opts.values[key] = _typed(schema[key], key, value, where)
-            opts.origin[key] = f"{key} in [{command}] of {source}"
+            opts.origin[key] = f"{key} in [{table}] of {source}"
     for name in Parameters.field_names():
         if getattr(args, name) is not None:
             param_values[name] = getattr(args, name)
@@ -232,6 +246,28 @@ def _fits_float(value: int | float) -> bool:
         return math.isfinite(float(value))
     except OverflowError:  # a TOML integer beyond 1.8e308
         return False
+
+
+def parse_range(name: str, text: str) -> np.ndarray:
+    """Values of a range option: ``start:stop:count`` (inclusive, evenly spaced),
+    ``start:stop:count:log`` (inclusive, evenly spaced in log10, 0 < start), ``a,b,c`` or
+    one number (:func:`microslip.io.ranges.parse_values`); ``CliError`` naming ``name``."""
+    from microslip.io.ranges import parse_values
+
+    text = refuse_underscores(name, str(text)).strip()
+    head, sep, scale = text.rpartition(":")
+    log = bool(sep) and scale.strip().lower() == "log"
+    try:
+        values = parse_values(name, head if log else text)
+    except ValueError as error:
+        raise CliError(str(error)) from None
+    if not log:
+        return values
+    if head.count(":") != 2:
+        raise CliError(f"{name}: expected start:stop:count:log, got {text!r}")
+    if values[0] <= 0.0:
+        raise CliError(f"{name}: a log range needs 0 < start, got {text!r}")
+    return np.geomspace(values[0], values[-1], values.size)
 
 
 def refuse_underscores(name: str, text: str) -> str:

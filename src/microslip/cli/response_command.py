@@ -15,6 +15,7 @@ import time
 import numpy as np
 
 from microslip.cli.commands import _output_path, _same_file, write_outputs
+from microslip.cli.model_options import require_paper_tangential
 from microslip.cli.options import CliError, Options, gather, refuse_underscores
 
 __all__ = ["cmd_response", "parse_pair", "summary_lines"]
@@ -61,6 +62,11 @@ def cmd_response(args: argparse.Namespace) -> int:
         )
     name, dotted, (start, end) = _range(opts)
     model = opts.model({dotted: (start, opts.flag(name))})
+    require_paper_tangential(
+        model, opts.parts, "response",
+        instead="the forced response is that of the normal motion, which the tangential "
+        "parts do not change: leave them out",
+    )  # fmt: skip
     try:  # both ends within the supported range of the field, before computing
         model.replace(**{dotted: end})
     except ValueError as error:

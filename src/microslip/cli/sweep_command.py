@@ -14,7 +14,16 @@ import numpy as np
 
 from microslip.cli.commands import _check_method, _commit, _note, _output_path, _same_file
 from microslip.cli.interrupts import RUN
+from microslip.cli.model_options import require_paper_tangential
 from microslip.cli.options import CliError, Options, gather, refuse_underscores
+
+#: Why map and sweep refuse a tangential part other than the paper's.
+SWEEP_INSTEAD = (
+    "map and sweep compute the steady mean velocity under the constant forces of --force on "
+    "a rigid contact with Coulomb friction (the paper's Sec. 4): leave out --tangential, "
+    "--friction and --drive, or use `microslip simulate` (any tangential part) or "
+    "`microslip friction` (effective friction under a prescribed velocity)"
+)
 
 
 # -- map / sweep ------------------------------------------------------------------------
@@ -76,6 +85,7 @@ def cmd_sweep(args: argparse.Namespace) -> int:
         {name: (float(values[0]), f"{opts.flag('param')} {name}=...")
          for name, values in axes.items() if "." in name}
     )  # fmt: skip
+    require_paper_tangential(model, opts.parts, args.command, instead=SWEEP_INSTEAD)
     forced = model.excitation is not None
     if forced and args.command == "map":
         raise CliError(

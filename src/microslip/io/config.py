@@ -16,15 +16,40 @@ Example::
     frequency = 1400.0  # f [Hz]
     # mean = 1e-7       # delta_m [m], prescribed-penetration only
 
+    [tangential]        # tangential contact (default: rigid, the paper's)
+    kind = "spring"     # "rigid", "spring" (stiffness [N m-1]) or "mindlin" (ratio [1])
+    stiffness = 1.0e6   # k_t [N m-1]
+
+    [friction]          # friction law (default: coulomb with mu of [parameters])
+    law = "static-kinetic"    # "coulomb", "static-kinetic" or "stribeck"
+    mu_static = 0.15    # mu_s [1]
+    mu_kinetic = 0.1    # mu_k [1]
+    # velocity = 1e-4   # v_s [m s-1], stribeck only
+    # exponent = 2.0    # q [1], stribeck only
+
+    [drive]             # tangential drive (default: none, the force of each command)
+    kind = "harmonic"   # "none", "constant-force", "harmonic", "spring", "prescribed-velocity"
+    mean = 0.2          # F0 [N] (harmonic); constant-force: force [N]
+    amplitude = 0.1     # F1 [N] (harmonic)
+    frequency = 100.0   # f_d [Hz] (harmonic)
+    # stiffness, velocity: k_d [N m-1] and v_d [m s-1] (spring); velocity (prescribed-velocity)
+
     [simulate]          # any option of `microslip simulate`, by its long flag name
-    force = 0.5
     amplitude = 1.5e-7
+    duration = 0.01
+
+The options of ``microslip friction`` are in ``[effective-friction]`` (``[friction]`` is
+the friction law's table). A physical law is chosen with ``law`` (damping, friction),
+any other part with ``kind``; the kinds and fields are those of :data:`PART_TABLES`,
+spelled as on the command line (``--friction static-kinetic --friction-mu-static 0.15``).
+A field key may be written with ``_`` or ``-`` (``mu_static`` or ``mu-static``), not both.
 """
 
 from __future__ import annotations
 
 import math
 import sys
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
@@ -55,34 +80,77 @@ def load_config(path: str | Path) -> dict[str, Any]:
     return data
 
 
-#: The tables of the model's parts and the type of each key ("str" or "float").
-PART_TABLES: dict[str, dict[str, str]] = {
-    "damping": {"law": "str", "ratio": "float"},
-    "excitation": {"kind": "str", "amplitude": "float", "frequency": "float", "mean": "float"},
-}
+@dataclass(frozen=True)
+class PartTable:
+    """How one slot of a :class:`~microslip.model.composition.Model` is spelled in a
+    TOML table and on the command line (``[friction] law = "stribeck"``,
+    ``--friction stribeck``). Class names, not classes: reading it loads no numba."""
+
+    selector: str  # the key naming the kind: "law" or "kind"
+    kinds: dict[str, str | None]  # kind -> class name exported by microslip (None: no part)
+    fields: tuple[str, ...]  # every numeric field of any kind, in flag order
+    paper: str  # the kind of the paper's model, used when the slot is not given
+
+
+#: The part tables, by slot (the Model attribute and the table name), in flag order.
+PART_TABLES: dict[str, PartTable] = {
+    "damping": PartTable(
+        "law", {"none": None, "viscous": "Viscous", "hunt-crossley": "HuntCrossley"},
+        ("ratio",), "none",
+    ),
+    "excitation": PartTable(
+        "kind",
+        {"none": None, "harmonic-force": "HarmonicForce", "base-motion": "BaseMotion",
+         "prescribed-penetration": "PrescribedPenetration"},
+        ("amplitude", "frequency", "mean"), "none",
+    ),
+    "tangential": PartTable(
+        "kind", {"rigid": "Rigid", "spring": "TangentialSpring", "mindlin": "MindlinSpring"},
+        ("stiffness", "ratio"), "rigid",
+    ),
+    "friction": PartTable(
+        "law", {"coulomb": "Coulomb", "static-kinetic": "StaticKinetic", "stribeck": "Stribeck"},
+        ("mu_static", "mu_kinetic", "velocity", "exponent"), "coulomb",
+    ),
+    "drive": PartTable(
+        "kind",
+        {"none": None, "constant-force": "ConstantForce", "harmonic": "HarmonicDrive",
+         "spring": "SpringDrive", "prescribed-velocity": "PrescribedVelocity"},
+        ("force", "mean", "amplitude", "frequency", "stiffness", "velocity"), "none",
+    ),
+}  # fmt: skip
 
 
 def parts_from_config(data: dict[str, Any], source: str) -> dict[str, dict[str, Any]]:
-    """The ``[damping]`` and ``[excitation]`` tables, checked for unknown keys and types.
+    """The part tables (:data:`PART_TABLES`), checked for unknown keys and types.
 
-    Returns ``{table: {key: value}}`` for the tables present (numbers as floats). Which
-    keys a kind needs, and their ranges, are checked when the model is built
-    (:mod:`microslip.cli.model_options`).
+    Returns ``{table: {key: value}}`` for the tables present (numbers as floats, keys
+    spelled with ``_``). Which keys a kind needs, and their ranges, are checked when the
+    model is built (:mod:`microslip.cli.model_options`).
     """
     out: dict[str, dict[str, Any]] = {}
-    for name, schema in PART_TABLES.items():
+    for name, spec in PART_TABLES.items():
         if name not in data:
             continue
         table = data[name]
         if not isinstance(table, dict):
             raise ValueError(f"{source}: [{name}] must be a table")
         values: dict[str, Any] = {}
+        spelled: dict[str, str] = {}
         for key, value in table.items():
-            if key not in schema:
+            canonical = key.replace("-", "_")
+            if canonical != spec.selector and canonical not in spec.fields:
                 raise ValueError(
-                    f"{source}: unknown key {key!r} in [{name}]; known: {', '.join(schema)}"
+                    f"{source}: unknown key {key!r} in [{name}]; "
+                    f"known: {', '.join((spec.selector, *spec.fields))}"
                 )
-            if schema[key] == "str":
+            if canonical in spelled:  # `mu_static` and `mu-static`: which one?
+                raise ValueError(
+                    f"{source}: {spelled[canonical]!r} and {key!r} in [{name}] are the same "
+                    "key; keep one"
+                )
+            spelled[canonical] = key
+            if canonical == spec.selector:
                 if not isinstance(value, str):
                     raise ValueError(f"{source}: {key} in [{name}] must be a string, got {value!r}")
             else:
@@ -91,7 +159,7 @@ def parts_from_config(data: dict[str, Any], source: str) -> dict[str, dict[str, 
                     raise ValueError(
                         f"{source}: {key} in [{name}] must be a finite number, got {table[key]!r}"
                     )
-            values[key] = value
+            values[canonical] = value
         out[name] = values
     return out
 
