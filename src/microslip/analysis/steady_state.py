@@ -41,6 +41,14 @@ from microslip.model.composition import Model, as_model
 from microslip.model.contact import elastic_force
 from microslip.model.parameters import Parameters
 
+#: What to use for the tangential parts the steady mean velocity does not cover (its
+#: reflected process, identity 5, needs a rigid contact, Coulomb friction, a constant F).
+TANGENTIAL_INSTEAD = (
+    "the exact steady state needs a rigid contact, Coulomb friction and a constant force "
+    "given as force=; use ms.simulate, ms.effective_friction (PrescribedVelocity) or "
+    "ms.stick_slip_drive (SpringDrive)"
+)
+
 __all__ = ["StickSlipCycle", "mean_velocity", "mean_velocity_grid", "stick_slip_cycle"]
 
 # Table steps per half period: mean velocity to ~1e-11 relative while the contact law is
@@ -258,6 +266,7 @@ def mean_velocity(
         relative for the period-2 case of tests/validation/test_period_doubling.py).
     """
     model = as_model(model_or_params)
+    require(model, "mean_velocity", allowed={}, instead=TANGENTIAL_INSTEAD)
     if model.excitation is None:
         if initial_normal_state is not None:
             raise ValueError(

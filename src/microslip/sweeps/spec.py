@@ -23,6 +23,8 @@ import numpy as np
 
 from microslip import budget
 from microslip import validation as check
+from microslip.analysis.steady_state import TANGENTIAL_INSTEAD
+from microslip.model.capabilities import require
 from microslip.model.composition import Model, as_model
 from microslip.model.parameters import DERIVED_RANGES, Parameters
 from microslip.sweeps.axes import check_fields, check_part_axes, checked_axis, grid_logs
@@ -138,6 +140,7 @@ class SweepSpec:
         :meth:`check_budget` is made here too (None: left to :meth:`check_budget`).
         """
         model = as_model(model_or_params)
+        require(model, "sweep", allowed={}, instead=TANGENTIAL_INSTEAD)
         params = model.params
         forced = model.excitation is not None
         if forced and amplitudes is not None:
