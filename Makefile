@@ -1,7 +1,9 @@
 # microslip: commands on a fresh machine.
 #   make paper        creates .venv if missing and writes the paper's figures to figures/
 #   make figures-ext  creates .venv if missing and writes the extensions' figures (forced
-#                     response, v(F, f) under excitation, loss of contact) to figures/ext/
+#                     response, v(F, f) under excitation, loss of contact, the friction-
+#                     reduction master curve, a mu_eff map, spring-driven stick-slip)
+#                     to figures/ext/
 #   make test         creates .venv if missing and runs the test suite
 #   make docs         creates .venv if missing and builds the documentation (HTML, warnings
 #                     as errors, gallery and tutorial executed) into docs/_build/html

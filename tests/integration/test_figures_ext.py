@@ -103,12 +103,33 @@ def test_figures_extensions_command(capsys, tmp_path, monkeypatch):
         assert all("units" in ds[name].attrs for name in ds.data_vars)
 
 
+def test_figures_extensions_friction_figures(capsys, tmp_path, monkeypatch):
+    """The friction figures (plotting/friction.py) are registered: PNG + NetCDF with units."""
+    assert {"friction_master_curve", "mu_eff_map", "spring_stick_slip"} <= set(EXTENSION_FIGURES)
+    monkeypatch.chdir(tmp_path)
+    status, _, err = run(capsys, "figures", "--extensions", "--only", "spring_stick_slip",
+                         "--dpi", "30", "--quiet")  # fmt: skip
+    assert status == 0, err
+    ext = tmp_path / "figures" / "ext"
+    assert sorted(p.name for p in ext.iterdir()) == ["spring_stick_slip.nc",
+                                                     "spring_stick_slip.png"]  # fmt: skip
+    with xr.open_dataset(ext / "spring_stick_slip.nc") as ds:
+        assert all("units" in ds[name].attrs for name in ds.data_vars)
+        mg = P.mass * P.g
+        drop = 2 * (ds.attrs["friction_mu_static"] - ds.attrs["friction_mu_kinetic"]) * mg
+        assert float(ds["force_drop"].sel(case=0)) == pytest.approx(drop, rel=1e-8)
+
+
 @pytest.mark.parametrize(
     ("args", "words"),
     [
         (["--extensions", "--only", "fig2"], ["unknown figure 'fig2' of --extensions"]),
         (["--only", "contact_loss"], ["unknown figure 'contact_loss'"]),
         (["--extensions", "--mu", "0", "--only", "contact_loss"], ["contact_loss", "mu = 0"]),
+        (
+            ["--extensions", "--mu", "0", "--only", "mu_eff_map,spring_stick_slip"],
+            ["mu_eff_map", "spring_stick_slip", "mu = 0"],
+        ),
     ],
 )
 def test_figures_extensions_refusals(capsys, tmp_path, monkeypatch, args, words):

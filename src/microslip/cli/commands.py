@@ -25,7 +25,14 @@ from microslip.cli.options import CliError, Options, gather, refuse_underscores
 
 ALL_FIGURES = ("fig2", "fig3", "fig4", "fig5", "fig6", "fig7")
 # The extensions' figures (plotting/extensions.py; ``figures --extensions``)
-EXTENSION_FIGURES = ("forced_response", "forced_velocity_map", "contact_loss")
+EXTENSION_FIGURES = (
+    "forced_response",
+    "forced_velocity_map",
+    "contact_loss",
+    "friction_master_curve",
+    "mu_eff_map",
+    "spring_stick_slip",
+)
 
 
 def _note(message: str) -> None:

@@ -14,6 +14,20 @@ behind it as ``NAME.png`` and ``NAME.nc``:
 - ``contact_loss``: a time history from rest under a strong harmonic force (P0 = 2 N
   at f = f0, ζ = 0.03, F = 0.5 N): y, the normal force N and ẋ against time over eight
   excitation periods, the flight phases (N = 0) shaded.
+- ``friction_master_curve``: the friction-reduction master curve of the flat punch
+  (m2 = 1, prescribed penetration N = N0 (1 + β cos ωt), tangential spring k_t = K_n,
+  prescribed velocity v): (1 − μ_eff/μ)/β against ṽ = k_t v/(μ max|dN/dt|) for
+  β = 0.25 to 0.9 (they collapse onto the closed form D(ṽ), drawn) and β = 1.5, 3 (loss
+  of contact: they do not).
+- ``mu_eff_map``: μ_eff/μ of the same flat punch over drive speed (0.03 to 3 v_c of
+  β = 1) × penetration amplitude (Δ/δ_m from 0.05 to 1.45), the critical speed ṽ = 1
+  and the loss of contact Δ = δ_m drawn in.
+- ``spring_stick_slip``: stick–slip driven by a spring (k_d = 1e-3 K_n) under
+  static/kinetic friction (μ_s = 1.5 μ, μ_k = μ), without and with the paper's free
+  normal vibration: drive force, friction limit μ_s N and body velocity against time,
+  the force drops marked (2 (μ_s − μ_k) m g without vibration).
+
+The last three are drawn by :mod:`microslip.plotting.friction`.
 
 For other parameters the forces scale with m g (P0) and μ m g (F), the frequencies
 with f0, so each figure shows the same phenomena. The grids are small on purpose: each
@@ -40,6 +54,11 @@ from microslip.model.composition import Model
 from microslip.model.damping import Viscous, damping_coefficient
 from microslip.model.excitation import HarmonicForce
 from microslip.model.parameters import Parameters
+from microslip.plotting.friction import (
+    master_curve_figure,
+    mu_eff_map_figure,
+    spring_stick_slip_figure,
+)
 from microslip.plotting.response import draw_branch, fold_indices, legend_handles
 from microslip.plotting.scales import PAPER, figure_scales, require_friction
 from microslip.results import FLIGHT
@@ -244,6 +263,9 @@ FIGURES: dict[str, Callable[[Parameters], tuple[Figure, xr.Dataset]]] = {
     "forced_response": forced_response_figure,
     "forced_velocity_map": forced_velocity_map_figure,
     "contact_loss": contact_loss_figure,
+    "friction_master_curve": master_curve_figure,
+    "mu_eff_map": mu_eff_map_figure,
+    "spring_stick_slip": spring_stick_slip_figure,
 }
 EXTENSION_FIGURES = tuple(FIGURES)
 

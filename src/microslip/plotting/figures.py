@@ -28,10 +28,16 @@ __all__ = [
 ]
 
 # Figures of stick-slip under dry friction, driven by a fraction of mu m g (Sec. 4)
-_NEED_FRICTION = ("fig4", "fig5", "fig6", "fig7", "forced_velocity_map", "contact_loss")
+_NEED_FRICTION = (
+    "fig4", "fig5", "fig6", "fig7", "forced_velocity_map", "contact_loss",
+    "friction_master_curve", "mu_eff_map", "spring_stick_slip",
+)  # fmt: skip
 
 #: The extensions' figures (drawn by :func:`microslip.plotting.extensions.write_extension_figures`)
-EXTENSION_FIGURES = ("forced_response", "forced_velocity_map", "contact_loss")
+EXTENSION_FIGURES = (
+    "forced_response", "forced_velocity_map", "contact_loss",
+    "friction_master_curve", "mu_eff_map", "spring_stick_slip",
+)  # fmt: skip
 
 
 def check_drawable(params: Parameters, names: Sequence[str]) -> None:
