@@ -421,7 +421,8 @@ def stick_slip_drive_map(
     transient_cycles: int = 2,
     method: str = "event",
 ):
-    """:func:`stick_slip_drive` over drive velocities × normal vibration amplitudes.
+    """The cycle of :func:`stick_slip_drive` over drive velocities × normal vibration
+    amplitudes.
 
     Parameters
     ----------
