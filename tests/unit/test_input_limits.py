@@ -168,10 +168,16 @@ def test_rk4_refuses_tolerances():
             ms.simulate(P, **SIM, method="rk4", **{name: 1e-3})
 
 
-@pytest.mark.parametrize("forces", [None, "0.3", ["0.3"], [True, False], {"a": 1}])
+@pytest.mark.parametrize("forces", ["0.3", ["0.3"], [True, False], {"a": 1}])
 def test_forces_that_are_not_numbers_are_refused(forces):
     with pytest.raises(ValueError, match="force must be an array of real numbers"):
         ms.velocity_map(forces=forces, amplitudes=[1e-7])
+
+
+def test_missing_forces_are_refused_with_what_to_give():
+    # force=None: the mean velocity needs forces; a kinematic drive would give mu_eff
+    with pytest.raises(ValueError, match=r"force is required \(N\).*PrescribedVelocity"):
+        ms.velocity_map(forces=None, amplitudes=[1e-7])
 
 
 def test_sweep_axes_must_be_a_mapping():
