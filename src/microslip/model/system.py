@@ -360,6 +360,18 @@ def _flight_mode(s):
     return -FLIGHT if s[XDOT] < 0.0 else FLIGHT
 
 
+@njit(cache=True, inline="always")
+def _drop_to_kinetic_limit(t, s, direction, normal, c):
+    """A compliant contact point starts to slip in ``direction``: its spring force drops
+    to the kinetic limit μ_k N at once and the massless point jumps as the spring
+    recovers (f = k_t (x - u) in the spring's own increments), in place in ``s``."""
+    held = s[FT]
+    s[FT] = direction * kinetic_coefficient(0.0, c) * normal
+    stiffness = tangential_stiffness(gap(t, s[Y], s[YDOT], c)[0], c)
+    if stiffness > 0.0:
+        s[U] += (held - s[FT]) / stiffness
+
+
 @njit(cache=True)
 def initial_mode(t, s, c):
     """Friction mode at a state (eq. 2.2): stick iff the held force is within μ_s N.
@@ -375,11 +387,7 @@ def initial_mode(t, s, c):
         if abs(s[FT]) <= friction_limit(normal, c):
             return 0.0
         direction = sign(s[FT])
-        held = s[FT]
-        s[FT] = direction * kinetic_coefficient(0.0, c) * normal
-        stiffness = tangential_stiffness(gap(t, s[Y], s[YDOT], c)[0], c)
-        if stiffness > 0.0:
-            s[U] += (held - s[FT]) / stiffness
+        _drop_to_kinetic_limit(t, s, direction, normal, c)
         return direction
     if s[XDOT] != 0.0:
         return sign(s[XDOT])
@@ -423,12 +431,7 @@ def _compliant_switch(which, t, s, mode, c):
         # (instantly: the contact point is massless). Where μ_s > μ_k and N falls the
         # drop may leave nothing to slide for: the point sticks again at once.
         direction = sign(s[FT])
-        held = s[FT]
-        s[FT] = direction * kinetic_coefficient(0.0, c) * normal
-        # the massless point jumps as the spring recovers (f = k_t (x - u))
-        stiffness = tangential_stiffness(gap(t, s[Y], s[YDOT], c)[0], c)
-        if stiffness > 0.0:
-            s[U] += (held - s[FT]) / stiffness
+        _drop_to_kinetic_limit(t, s, direction, normal, c)
         if direction * _contact_point_rates(t, s, direction, normal, c)[0] <= 0.0:
             return 0.0, SLIP_START
         return direction, SLIP_START
