@@ -14,7 +14,9 @@ def compute_chunk(spec: SweepSpec, key: ChunkKey) -> np.ndarray:
     """Mean velocity [m/s] on the chunk's (force, amplitude) block.
 
     "steady": the exact long-time mean (inf where F > μ m g). "time": x(T)/T after a
-    batched RK4 run of duration T from the paper's initial state (rest at the top).
+    run of duration T from the paper's initial state (rest at the top), by the
+    shared-normal kernel (:mod:`microslip.integrators.shared_lanes`): one RK4 normal
+    motion per amplitude, shared by every force.
     Each point is computed independently of the chunking, so results are bit-identical
     however the sweep is split or distributed.
     """
@@ -30,16 +32,10 @@ def compute_chunk(spec: SweepSpec, key: ChunkKey) -> np.ndarray:
         if not mean_velocity_grid(forces, amplitudes, pack(params, 0.0), ORBIT_STEPS, out):
             raise RuntimeError(f"orbit table overflow in chunk {key}")
         return out
-    from microslip.integrators.batched import simulate_batch
-
     dt = spec.dt if spec.dt is not None else params.natural_period / DEFAULT_RK4_STEPS_PER_PERIOD
-    coeffs = np.repeat(spec.model_at(key).pack(0.0)[None, :], forces.size * amplitudes.size, axis=0)
-    coeffs[:, FORCE] = np.repeat(forces, amplitudes.size)
-    states0 = np.array(
-        [initial_state_from_amplitude(params, a) for a in amplitudes] * forces.size, dtype=float
-    )
-    result = simulate_batch(coeffs, states0, spec.duration, dt)
-    return (result.states[:, 2] / spec.duration).reshape(forces.size, amplitudes.size)
+    normal0 = np.array([initial_state_from_amplitude(params, a)[:2] for a in amplitudes])
+    x = _shared_run(spec.model_at(key), normal0, forces, spec.duration, dt)
+    return (x / spec.duration).T
 
 
 # -- models past the paper's (docs/design.md) ---------------------------------------------
@@ -75,7 +71,11 @@ def forced_chunk(spec: SweepSpec, key: ChunkKey) -> np.ndarray:
     model = spec.model_at(key)
     forces = np.asarray(spec.forces, dtype=float)
     if spec.method == "time":
-        return (_forced_run(spec, model, forces, spec.duration)[:, 2] / spec.duration)[:, None]
+        period = SweepSpec.step_period(model)
+        dt = spec.dt if spec.dt is not None else period / DEFAULT_RK4_STEPS_PER_PERIOD
+        normal0 = np.array([[model.params.static_deflection, 0.0]])
+        x = _shared_run(model, normal0, forces, spec.duration, dt)
+        return (x[0] / spec.duration)[:, None]
     try:
         table = model_sliding_table(model)
     except NotPeriodOneError as error:
@@ -90,6 +90,21 @@ def forced_chunk(spec: SweepSpec, key: ChunkKey) -> np.ndarray:
         end = _forced_run(spec, model, forces, half, states0=states)
         return ((end[:, 2] - states[:, 2]) / half)[:, None]
     return mean_velocities(table, model.params.mu, forces)[:, None]
+
+
+def _shared_run(model, normal0, forces, duration, dt) -> np.ndarray:
+    """x(duration) [m], shape (set-ups, forces), from rest on each normal set-up
+    (rows of ``normal0``: y [m], ẏ [m/s] at t = 0) under every constant force [N]."""
+    from microslip.integrators.normal_tape import normal_coefficients
+    from microslip.integrators.shared_lanes import run_shared
+
+    n_setups = normal0.shape[0]
+    coeffs = np.repeat(normal_coefficients(model.pack(0.0))[None, :], n_setups, axis=0)
+    groups = np.repeat(np.arange(n_setups), forces.size)
+    lane_forces = np.tile(forces, n_setups)
+    mu = np.full(lane_forces.size, model.params.mu)
+    x = run_shared(coeffs, normal0, groups, lane_forces, mu, mu, duration, dt)[0]
+    return x.reshape(n_setups, forces.size)
 
 
 def _forced_run(spec, model, forces, duration, states0=None) -> np.ndarray:

@@ -1,0 +1,358 @@
+"""The normal motion once, as a tape of polynomial pieces shared by many tangential lanes.
+
+The normal motion never depends on the tangential one (docs/design.md): at a given
+normal set-up (contact law, damping, excitation, initial normal state) it is the same
+for every force, friction coefficient and drive. :func:`fill_tape` integrates it with the
+core RK4 kernel (:func:`~microslip.integrators.kernel.integrate_chunk`, fixed steps on
+the grid k·dt, every contact switch located) on a copy of the model whose tangential
+side cannot switch (a kinematic drive on a rigid contact: only the contact functions are
+active), so the normal states on the grid are those of ``simulate(method="rk4")`` up to
+the first tangential switch of a trajectory.
+
+Each piece between two boundaries (grid points and contact switches) becomes a row of
+the tape: its start t0 [s], length h [s], and the normal force over it as a quartic in
+τ = (t - t0)/h ∈ [0, 1],
+
+    P(τ) = a0 + a1 τ + a2 τ² + a3 τ³ + a4 τ⁴   [N],
+
+interpolating N and h·dN/dt at both ends and N at the middle (the middle state from the
+quintic Hermite interpolant of y through y, ẏ, ÿ at both ends). N is smooth inside a
+piece (contact switches are piece ends), so P is O(h⁵) accurate there; a piece in
+flight has P = 0. The row also holds the exact integrals I(1) = ∫₀¹ P and
+K(1) = ∫₀¹ (1 - τ) P, the exact extremes of P on [0, 1], and its critical points (the
+roots of P', at most three), which split the piece into segments where P is monotone:
+the lanes' located switching (:mod:`microslip.integrators.shared_lanes`) brackets every
+root on those segments, so no double crossing can hide inside a piece.
+
+Nothing here knows about the lanes: the tape is the normal force N(t) [N] of one
+normal set-up.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numba import njit
+
+from microslip import _jit_cache  # noqa: F401  (registers the cache before any @njit)
+from microslip.integrators.kernel import MAX_SWITCHES_PER_STEP, STALLED, as_tuple
+from microslip.integrators.methods import RK4, WORK_ROWS, advance
+from microslip.integrators.switching import _CLEAR as CLEAR
+from microslip.integrators.switching import _screen as screen
+from microslip.integrators.switching import first_switch
+from microslip.model.coefficients import (
+    DRIVE_KIND,
+    DRIVE_VELOCITY,
+    FRICTION_KIND,
+    TANGENTIAL_KIND,
+)
+from microslip.model.damping import can_separate_in_overlap
+from microslip.model.drive import KINEMATIC
+from microslip.model.friction import COULOMB
+from microslip.model.normal import gap, normal_acceleration, raw_normal_force
+from microslip.model.system import (
+    CONTACT_GAP,
+    SEPARATION,
+    apply_switch,
+    switching_rate,
+)
+from microslip.model.system import switching_value as _switching_value
+from microslip.model.tangential import RIGID
+
+# Columns of a tape row.
+T0, H, A0, A1, A2, A3, A4, INT1, KINT1, PMIN, PMAX, NCRIT, CRIT1, CRIT2, CRIT3 = range(15)
+ROW = 15
+
+_BISECTIONS = 60  # halvings of a bracket of P' (2^-60 < 1e-18 of a piece)
+
+
+def normal_coefficients(c: np.ndarray) -> np.ndarray:
+    """A copy of coefficient vector ``c`` whose tangential side cannot switch: a rigid
+    contact, Coulomb friction and a kinematic drive at 1 m/s. Its normal motion is the
+    model's (no normal law reads the tangential slots)."""
+    out = np.array(c, dtype=np.float64, copy=True)
+    out[TANGENTIAL_KIND] = RIGID
+    out[FRICTION_KIND] = COULOMB
+    out[DRIVE_KIND] = KINEMATIC
+    out[DRIVE_VELOCITY] = 1.0
+    return out
+
+
+@njit(cache=True)
+def _quartic(n0, d0, nm, n1, d1):
+    """Coefficients (a0..a4) of the quartic with P(0) = n0, P'(0) = d0, P(1/2) = nm,
+    P(1) = n1, P'(1) = d1 (derivatives per unit τ)."""
+    r1 = n1 - n0 - d0
+    r2 = d1 - d0
+    r3 = nm - n0 - 0.5 * d0
+    a4 = 16.0 * r3 - 8.0 * r1 + 2.0 * r2
+    a3 = r2 - 2.0 * r1 - 2.0 * a4
+    a2 = r1 - a3 - a4
+    return n0, d0, a2, a3, a4
+
+
+# The polynomial functions take the coefficients as a tuple a = (a0, ..., a4) [N]: a
+# tuple goes by value through compiled calls, an array is reference-counted at each one
+# (docs in integrators/kernel.py, "Speed").
+@njit(cache=True, inline="always")
+def coefficients(tape, r):
+    """The quartic's coefficients (a0, ..., a4) [N] of tape row r, as a tuple."""
+    return tape[r, A0], tape[r, A1], tape[r, A2], tape[r, A3], tape[r, A4]
+
+
+@njit(cache=True, inline="always")
+def critical_points(tape, r):
+    """(count, τ1, τ2, τ3) of tape row r: where P' = 0 inside the piece."""
+    return int(tape[r, NCRIT]), tape[r, CRIT1], tape[r, CRIT2], tape[r, CRIT3]
+
+
+@njit(cache=True, inline="always")
+def poly(a, tau):
+    """P(τ) [N] (Horner)."""
+    return a[0] + tau * (a[1] + tau * (a[2] + tau * (a[3] + tau * a[4])))
+
+
+@njit(cache=True, inline="always")
+def poly_rate(a, tau):
+    """dP/dτ [N]."""
+    return a[1] + tau * (2.0 * a[2] + tau * (3.0 * a[3] + tau * 4.0 * a[4]))
+
+
+@njit(cache=True, inline="always")
+def integral(a, tau):
+    """I(τ) = ∫₀^τ P [N]."""
+    return tau * (
+        a[0] + tau * (a[1] / 2.0 + tau * (a[2] / 3.0 + tau * (a[3] / 4.0 + tau * a[4] / 5.0)))
+    )
+
+
+@njit(cache=True, inline="always")
+def double_integral(a, tau):
+    """K(τ) = ∫₀^τ I = ∫₀^τ (τ - σ) P(σ) dσ [N]."""
+    inner = a[1] / 6.0 + tau * (a[2] / 12.0 + tau * (a[3] / 20.0 + tau * a[4] / 30.0))
+    return tau * tau * (a[0] / 2.0 + tau * inner)
+
+
+@njit(cache=True)
+def _root_of_rate(a, lo, hi):
+    """The root of P' in [lo, hi], where P' changes sign and is monotone (bisection)."""
+    f_lo = poly_rate(a, lo)
+    for _ in range(_BISECTIONS):
+        mid = 0.5 * (lo + hi)
+        f_mid = poly_rate(a, mid)
+        if (f_mid > 0.0) == (f_lo > 0.0):
+            lo, f_lo = mid, f_mid
+        else:
+            hi = mid
+    return 0.5 * (lo + hi)
+
+
+@njit(cache=True)
+def _extremes(a):
+    """(min P, max P, count, τ1, τ2, τ3) on [0, 1]: the extremes and the critical
+    points (roots of P') inside."""
+    end = poly(a, 1.0)
+    p_min, p_max = min(a[0], end), max(a[0], end)
+    # Fast path: the Bernstein coefficients of P' (a cubic) all of one sign bound it
+    # away from 0 on [0, 1]: P is monotone, its extremes are its end values.
+    c0, c1, c2, c3 = a[1], 2.0 * a[2], 3.0 * a[3], 4.0 * a[4]
+    b1 = c0 + c1 / 3.0
+    b2 = c0 + 2.0 * c1 / 3.0 + c2 / 3.0
+    b3 = c0 + c1 + c2 + c3
+    if (c0 > 0.0 and b1 > 0.0 and b2 > 0.0 and b3 > 0.0) or (
+        c0 < 0.0 and b1 < 0.0 and b2 < 0.0 and b3 < 0.0
+    ):
+        return p_min, p_max, 0, 0.0, 0.0, 0.0
+    # P' is monotone between the roots of P'' (a quadratic): at most one root of P' in
+    # each of those intervals, found by bisection where P' changes sign.
+    qa, qb, qc = 12.0 * a[4], 6.0 * a[3], 2.0 * a[2]
+    turn_a, turn_b = 2.0, 2.0  # none
+    if qa != 0.0:
+        disc = qb * qb - 4.0 * qa * qc
+        if disc > 0.0:
+            root = disc**0.5
+            turn_a = (-qb - root) / (2.0 * qa)
+            turn_b = (-qb + root) / (2.0 * qa)
+            if turn_a > turn_b:
+                turn_a, turn_b = turn_b, turn_a
+    elif qb != 0.0:
+        turn_a = -qc / qb
+    if not 0.0 < turn_a < 1.0:
+        turn_a = turn_b
+        turn_b = 2.0
+    if not 0.0 < turn_b < 1.0:
+        turn_b = 2.0
+    if not 0.0 < turn_a < 1.0:
+        turn_a = 2.0
+    edges = (0.0, min(turn_a, 1.0), min(turn_b, 1.0), 1.0)
+    found = [0.0, 0.0, 0.0]
+    n_crit = 0
+    for k in range(3):
+        lo, hi = edges[k], edges[k + 1]
+        if hi <= lo:
+            continue
+        f_lo, f_hi = poly_rate(a, lo), poly_rate(a, hi)
+        if (f_lo > 0.0 and f_hi < 0.0) or (f_lo < 0.0 and f_hi > 0.0):
+            tau = _root_of_rate(a, lo, hi)
+            if 0.0 < tau < 1.0:
+                found[n_crit] = tau
+                n_crit += 1
+                value = poly(a, tau)
+                p_min = min(p_min, value)
+                p_max = max(p_max, value)
+    return p_min, p_max, n_crit, found[0], found[1], found[2]
+
+
+@njit(cache=True)
+def _end_values(t, y, ydot, c):
+    """(ÿ [m/s^2], N_raw [N], dN_raw/dt [N/s]) at a piece end (the raw law: continuous
+    through a separation inside the overlap, where the clipped N has a kink)."""
+    state = (y, ydot, 0.0, 1.0, 0.0, 0.0)
+    return (
+        normal_acceleration(t, y, ydot, c),
+        _switching_value(SEPARATION, t, state, 1.0, c),
+        switching_rate(SEPARATION, t, state, 1.0, c),
+    )
+
+
+@njit(cache=True)
+def piece_coefficients(t0, y0, v0, ends0, t1, y1, v1, ends1, c):
+    """The quartic (a0, ..., a4) [N] of the normal force over the piece from
+    (t0, y0, ẏ0) to (t1, y1, ẏ1) of a normal motion in coefficients ``c``; zeros in
+    flight. ``ends0``, ``ends1`` are :func:`_end_values` there (computed once per
+    boundary, shared by the pieces on either side)."""
+    h = t1 - t0
+    acc0, n0, rate0 = ends0
+    acc1, n1, rate1 = ends1
+    # The middle of the piece from the quintic Hermite interpolant of y.
+    y_mid = 0.5 * (y0 + y1) + h * (v0 - v1) * (5.0 / 32.0) + h * h * (acc0 + acc1) / 64.0
+    v_mid = 15.0 * (y1 - y0) / (8.0 * h) - 7.0 * (v0 + v1) / 16.0 + h * (acc1 - acc0) / 32.0
+    t_mid = t0 + 0.5 * h
+    n_mid = 0.0
+    if gap(t_mid, y_mid, v_mid, c)[0] > 0.0:
+        n_mid = raw_normal_force(t_mid, y_mid, v_mid, c)
+    if n_mid <= 0.0:  # in flight
+        return 0.0, 0.0, 0.0, 0.0, 0.0
+    return _quartic(n0, h * rate0, n_mid, n1, h * rate1)
+
+
+WORK_SCRATCH = WORK_ROWS + 6  # rows of the ``work`` scratch of :func:`fill_tape`
+
+# Slots of the carry vector of a tape integration.
+C_T, C_Y, C_YDOT, C_K, C_MODE = range(5)
+CARRY = 5
+
+
+@njit(cache=True)
+def start_tape(y0, ydot0):
+    """Carry vector of the normal integration from (y0 [m], ẏ0 [m/s]) at t = 0."""
+    carry = np.zeros(CARRY)
+    carry[C_Y] = y0
+    carry[C_YDOT] = ydot0
+    carry[C_MODE] = 1.0  # the kinematic drive's direction: it never switches
+    return carry
+
+
+@njit(cache=True, error_model="numpy")
+def _rk4(t, h, y, v, c):
+    """One RK4 step of the normal motion alone: the arithmetic of
+    :func:`~microslip.integrators.steppers.rk4_step` on the (y, ẏ) components."""
+    hh = 0.5 * h
+    a1 = normal_acceleration(t, y, v, c)
+    y2, v2 = y + hh * v, v + hh * a1
+    a2 = normal_acceleration(t + hh, y2, v2, c)
+    y3, v3 = y + hh * v2, v + hh * a2
+    a3 = normal_acceleration(t + hh, y3, v3, c)
+    y4, v4 = y + h * v3, v + h * a3
+    a4 = normal_acceleration(t + h, y4, v4, c)
+    w = h / 6.0
+    return y + w * (v + 2.0 * v2 + 2.0 * v3 + v4), v + w * (a1 + 2.0 * a2 + 2.0 * a3 + a4)
+
+
+@njit(cache=True, error_model="numpy")
+def _may_switch(t, h, y0, v0, y1, v1, c):
+    """False when neither contact function can flip inside the step."""
+    x0 = (y0, v0, 0.0, 1.0, 0.0, 0.0)
+    x1 = (y1, v1, 0.0, 1.0, 0.0, 0.0)
+    if screen(CONTACT_GAP, t, h, 1.0, c, x0, x1)[0] != CLEAR:
+        return True
+    if can_separate_in_overlap(c):
+        return screen(SEPARATION, t, h, 1.0, c, x0, x1)[0] != CLEAR
+    return False
+
+
+@njit(cache=True)
+def fill_tape(carry, c_array, t_end, dt, tape, work):
+    """Integrate the normal motion on from ``carry`` and write its pieces into ``tape``.
+
+    Fixed RK4 steps on the grid k·dt (the last one clipped to ``t_end``); a step in
+    which a contact function may flip goes to the core located switching
+    (:func:`~microslip.integrators.switching.first_switch`), and the piece ends at the
+    switch, as in :func:`~microslip.integrators.kernel.integrate_chunk`. ``work`` is
+    scratch of WORK_SCRATCH rows of N_STATE values. Returns (rows written, status):
+    0 when ``t_end`` was reached, 1 when the tape is full (call again), STALLED when a
+    step holds too many switches.
+    """
+    c = as_tuple(c_array)
+    t, y, v = carry[C_T], carry[C_Y], carry[C_YDOT]
+    k = int(carry[C_K])
+    mode = carry[C_MODE]
+    ends0 = _end_values(t, y, v, c)
+    rows = 0
+    status = 0
+    switches_in_step = 0
+    while t < t_end:
+        if rows >= tape.shape[0]:
+            status = 1
+            break
+        target = k * dt
+        if target >= t_end or t_end - target < 1e-9 * dt:
+            target = t_end
+        if target <= t:
+            k += 1
+            continue
+        h = target - t
+        y1, v1 = _rk4(t, h, y, v, c)
+        t1 = target
+        if _may_switch(t, h, y, v, y1, v1, c):
+            s0, s1, piece = work[WORK_ROWS], work[WORK_ROWS + 1], work[WORK_ROWS + 2]
+            trial, extremum, atol = work[WORK_ROWS + 3], work[WORK_ROWS + 4], work[WORK_ROWS + 5]
+            s0[:] = 0.0
+            atol[:] = 0.0
+            s0[0], s0[1], s0[3] = y, v, 1.0
+            s1[:] = s0
+            s1[0], s1[1] = y1, v1
+            theta, which = first_switch(
+                RK4, s0, s1, t, h, mode, c, 0.0, atol, trial, extremum, work
+            )
+            if which >= 0 and theta < 1.0:
+                advance(RK4, s0, t, theta * h, mode, c, 0.0, atol, piece, work)
+                t1 = t + theta * h
+                mode, _ = apply_switch(which, t1, piece, mode, c)
+                y1, v1 = piece[0], piece[1]
+                switches_in_step += 1
+                if switches_in_step > MAX_SWITCHES_PER_STEP:
+                    status = STALLED
+                    break
+        if t1 == target:
+            k += 1
+            switches_in_step = 0
+        ends1 = _end_values(t1, y1, v1, c)
+        # The row, written here: a compiled call taking ``tape`` would count it.
+        a = piece_coefficients(t, y, v, ends0, t1, y1, v1, ends1, c)
+        p_min, p_max, n_crit, tau1, tau2, tau3 = _extremes(a)
+        tape[rows, T0] = t
+        tape[rows, H] = t1 - t
+        for j in range(5):
+            tape[rows, A0 + j] = a[j]
+        tape[rows, INT1] = integral(a, 1.0)
+        tape[rows, KINT1] = double_integral(a, 1.0)
+        tape[rows, PMIN] = p_min
+        tape[rows, PMAX] = p_max
+        tape[rows, NCRIT] = n_crit
+        tape[rows, CRIT1] = tau1
+        tape[rows, CRIT2] = tau2
+        tape[rows, CRIT3] = tau3
+        rows += 1
+        t, y, v, ends0 = t1, y1, v1, ends1
+    carry[C_T], carry[C_Y], carry[C_YDOT], carry[C_K], carry[C_MODE] = t, y, v, k, mode
+    return rows, status

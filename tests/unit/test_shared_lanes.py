@@ -1,0 +1,108 @@
+"""The shared-normal kernel's pieces: the tape's polynomial algebra, determinism of the
+lanes whatever their company, order or threads, and its use by the time-domain map."""
+
+from __future__ import annotations
+
+import numba
+import numpy as np
+import pytest
+
+import microslip as ms
+from microslip.integrators import normal_tape as nt
+from microslip.integrators.shared_lanes import run_shared
+from microslip.simulation import initial_state_from_amplitude
+
+PARAMS = ms.Parameters()
+T0 = PARAMS.natural_period
+RNG = np.random.default_rng(7)
+
+
+def test_quartic_interpolates_its_five_conditions():
+    a = nt._quartic(2.0, -0.5, 1.3, 0.7, 0.25)
+    p = np.polynomial.Polynomial(a)
+    dp = p.deriv()
+    np.testing.assert_allclose([p(0), dp(0), p(0.5), p(1), dp(1)], [2.0, -0.5, 1.3, 0.7, 0.25],
+                               rtol=0, atol=1e-14)  # fmt: skip
+
+
+@pytest.mark.parametrize("seed", range(40))
+def test_integrals_extremes_and_critical_points_of_random_quartics(seed):
+    """I, K against numpy's polyint; min/max and the roots of P' against a dense grid
+    (the fast monotone path and the bracketed roots of P' both get exercised)."""
+    rng = np.random.default_rng(seed)
+    a = tuple(rng.normal(size=5) * [1.0, 1.0, 4.0, 8.0, 6.0])
+    p = np.polynomial.Polynomial(a)
+    for tau in (0.0, 0.3, 1.0):
+        assert nt.integral(a, tau) == pytest.approx(p.integ()(tau), abs=1e-13)
+        assert nt.double_integral(a, tau) == pytest.approx(p.integ(2)(tau), abs=1e-13)
+    p_min, p_max, n_crit, *crit = nt._extremes(a)
+    grid = np.linspace(0.0, 1.0, 200001)
+    values = p(grid)
+    assert p_min == pytest.approx(values.min(), abs=1e-9)
+    assert p_max == pytest.approx(values.max(), abs=1e-9)
+    roots = sorted(r.real for r in p.deriv().roots() if abs(r.imag) < 1e-12 and 0 < r.real < 1)
+    assert n_crit == len(roots)
+    np.testing.assert_allclose(crit[:n_crit], roots, atol=1e-12)
+
+
+def _lanes(n_setups=5, n_forces=7):
+    model = ms.Model(PARAMS)
+    amplitudes = np.linspace(0.0, 2.8e-7, n_setups)
+    normal0 = np.array([initial_state_from_amplitude(PARAMS, a)[:2] for a in amplitudes])
+    coeffs = np.repeat(nt.normal_coefficients(model.pack(0.0))[None, :], n_setups, axis=0)
+    groups = np.repeat(np.arange(n_setups), n_forces)
+    forces = np.tile(np.linspace(-0.9, 0.95, n_forces), n_setups)
+    mu_s = np.full(forces.size, 0.12)
+    mu_k = np.full(forces.size, 0.1)
+    return coeffs, normal0, groups, forces, mu_s, mu_k
+
+
+def test_lanes_bit_identical_whatever_their_company_order_and_threads():
+    coeffs, normal0, groups, forces, mu_s, mu_k = _lanes()
+    args = (0.004, T0 / 200)
+    whole = run_shared(coeffs, normal0, groups, forces, mu_s, mu_k, *args)
+    assert np.any(whole[3] > 2)  # lanes do switch (stick-slip)
+    perm = RNG.permutation(forces.size)
+    shuffled = run_shared(coeffs, normal0, groups[perm], forces[perm], mu_s[perm], mu_k[perm],
+                          *args)  # fmt: skip
+    for a, b in zip(whole, shuffled, strict=True):
+        assert np.array_equal(a[perm], b)
+    # One lane alone, on its own set-up: the same bits.
+    for lane in (3, 17, 30):
+        g = groups[lane]
+        alone = run_shared(coeffs[g : g + 1], normal0[g : g + 1], [0], forces[lane : lane + 1],
+                           mu_s[lane : lane + 1], mu_k[lane : lane + 1], *args)  # fmt: skip
+        assert alone[0][0] == whole[0][lane] and alone[1][0] == whole[1][lane]
+    threads = numba.get_num_threads()
+    try:
+        numba.set_num_threads(1)
+        single = run_shared(coeffs, normal0, groups, forces, mu_s, mu_k, *args)
+    finally:
+        numba.set_num_threads(threads)
+    for a, b in zip(whole, single, strict=True):
+        assert np.array_equal(a, b)
+
+
+def test_zero_force_lane_never_moves():
+    coeffs, normal0, groups, forces, mu_s, mu_k = _lanes(n_setups=5, n_forces=1)
+    forces[:] = 0.0
+    x, v, mode, switches, _ = run_shared(coeffs, normal0, groups, forces, mu_s, mu_k, 0.003,
+                                         T0 / 100)  # fmt: skip
+    assert np.all(x == 0.0) and np.all(v == 0.0) and np.all(mode == 0.0)
+    assert np.all(switches == 0)
+
+
+def test_time_map_does_not_depend_on_chunking():
+    """velocity_map(method="time") runs the shared kernel per chunk: the same bits for
+    one chunk or several."""
+    forces = np.linspace(0.2, 0.9, 5)
+    amplitudes = np.linspace(0.0, 3e-7, 6)
+    options = {"method": "time", "duration": 0.002}
+    one = ms.velocity_map(PARAMS, forces=forces, amplitudes=amplitudes, **options)
+    parts = [
+        ms.velocity_map(PARAMS, forces=forces, amplitudes=amplitudes[k : k + 2], **options)
+        for k in range(0, 6, 2)
+    ]
+    joined = np.concatenate([np.asarray(p.values) for p in parts], axis=-1)
+    assert np.array_equal(np.asarray(one.values), joined)
+    assert np.any(np.asarray(one.values) > 0.0)
