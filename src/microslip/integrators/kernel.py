@@ -128,6 +128,7 @@ def integrate_chunk(
     use_t_eval = t_eval.shape[0] > 0
     exponent = CONTROLLER_EXPONENT[method]
     switches_in_step = 0
+    aimed = False  # the last trial step was aimed at a switch of a rejected one
     status = DONE
     while t < t_end:
         if n_out >= cap - 1:
@@ -159,10 +160,25 @@ def integrate_chunk(
             n_rejects += 1
             factor = 0.2 if err != err else max(0.2, 0.9 * err**exponent)
             h_ctrl = h * factor
+            # A rejected trial step may cross a switch where the right-hand side has a
+            # kink (a friction or contact law changing form): its error is then no guide
+            # to a smooth step, and shrinking by it alone can creep towards the switch
+            # without ever reaching it (step underflow). Aim once at the switch instead:
+            # the step to it is smooth, and the switch is then located as usual.
+            if not aimed and may_switch(t, h, mode, c, state_tuple(s), state_tuple(s1)):
+                theta, which = first_switch(
+                    method, s, s1, t, h, mode, c, rtol, atol, trial, extremum, work
+                )
+                if which >= 0 and factor < theta < 1.0:
+                    h_ctrl = theta * h
+                    aimed = True
+                    continue
+            aimed = False
             if h_ctrl <= 1e-14 * (abs(t) + abs(h)):
                 status = STEP_UNDERFLOW
                 break
             continue
+        aimed = False
         if may_switch(t, h, mode, c, state_tuple(s), state_tuple(s1)):
             theta, which = piece_end(
                 method, s, s1, t, h, mode, c, rtol, atol, piece, trial, extremum, work
