@@ -40,7 +40,6 @@ __all__ = [
     "Estimate",
     "WorkLimitError",
     "available_memory",
-    "batch_chunk_rounds",
     "batch_threads",
     "check",
     "check_fits",
@@ -48,6 +47,7 @@ __all__ = [
     "estimate_simulation",
     "estimate_sweep",
     "event_steps_per_period",
+    "shared_chunk_rounds",
 ]
 
 TIME_LIMIT_S = 600.0  # a sane default: 10 minutes
@@ -67,18 +67,16 @@ STEADY_S_PER_ORBIT = 20e-6  # measured 13.5 us per half-orbit table (per amplitu
 # of 30 s): 1.04 us per point on a 1e6 x 3 grid, 1.95 us on 1000 x 1000 (amplitudes
 # with loss of contact cost more), 1.76 us on 1e6 x 3 with the resumable store.
 STEADY_S_PER_POINT = 3.0e-6
-# "time" sweeps (microslip.integrators.batched): a chunk's lanes run in blocks of
-# BATCH_BLOCK, the blocks in parallel over the threads, every block through every grid
-# step. A block costs about the same per step whether it holds 1 or 64 real lanes (a
-# partial block is padded with copies of its last lane), so the cost is per
-# block-step, not per lane-step. Measured 2026-11-24 with compute_chunk over 200 T0 of
-# the paper's data, per chunk-step: 1 lane 0.37-1.19 us (F in [0, 1.2] N, A in
-# [0, 3e-7] m; the most where contact is lost and every padded copy redoes its
-# switching steps), 12 lanes 0.42-0.99 us, 64 lanes 0.74 us, 4096 lanes (64 blocks on 2
-# threads) 33-41 us, i.e. 1.0-1.3 us per block-step and thread round. QA measured
-# 0.64 us (1 lane) and 1.65 us (12 lanes) per chunk-step under heavy load.
-BATCH_BLOCK = 64  # integrators.batched.DEFAULT_BLOCK
-BATCH_S_PER_BLOCK_STEP = 1.8e-6
+# "time" sweeps (microslip.integrators.shared_lanes): each normal set-up of a chunk (an
+# amplitude, or the one forced set-up) integrates its normal tape once, the set-ups in
+# parallel over the threads, and advances every force of it on the tape. Measured
+# 2026-11-24 on the paper's data, dt = T0/200, idle 2-core machine: 66 ns per set-up
+# step (the tape) on one thread, and 1.9 ns per lane-step per thread over a 256 x 256
+# map (0.05 s), switches included (~1 in 100 lane-steps, ~0.1-0.2 us each). Rounded up
+# ~3x and ~2x (the machine may be loaded).
+SHARED_S_PER_SETUP_STEP = 0.2e-6
+SHARED_S_PER_LANE_STEP = 4e-9
+TAPE_BYTES = 2048 * 15 * 8 + 4096  # one tape buffer per thread (shared_lanes.TAPE_ROWS)
 
 # DOP853 work per normal period T0 = 1/f0 (accepted + rejected steps + switching
 # instants), the worst of m2 in {1, 1.5, 2, 3}, F/(mu m g) in {-0.5, 0, 0.3, 0.9, 2},
@@ -330,12 +328,11 @@ def batch_threads() -> int:
         return max(1, os.cpu_count() or 1)
 
 
-def batch_chunk_rounds(lanes: int, threads: int | None = None) -> int:
-    """Block-steps per grid step of a chunk of ``lanes`` trajectories: its blocks of
-    ``BATCH_BLOCK`` lanes, ``threads`` at a time (default :func:`batch_threads`)."""
+def shared_chunk_rounds(setups: int, threads: int | None = None) -> int:
+    """Set-up rounds of a "time" chunk with ``setups`` normal set-ups, ``threads`` at a
+    time (default :func:`batch_threads`): each round integrates one tape per thread."""
     threads = batch_threads() if threads is None else threads
-    blocks = -(-int(lanes) // BATCH_BLOCK)
-    return -(-blocks // threads)
+    return -(-int(setups) // threads)
 
 
 def estimate_sweep(
@@ -345,7 +342,7 @@ def estimate_sweep(
     n_forces: int,
     n_amplitudes: int,
     lane_steps: float = 0.0,
-    block_steps: float = 0.0,
+    setup_steps: float = 0.0,
     chunk_points: int = 1,
     axis_values: int = 0,
 ) -> Estimate:
@@ -353,9 +350,9 @@ def estimate_sweep(
 
     ``n_sets`` parameter sets, each on ``n_forces`` x ``n_amplitudes`` points. "steady":
     one orbit table per (set, amplitude) and a cycle per point. "time": ``lane_steps``
-    RK4 trajectory-steps in all (the work reported), run time from ``block_steps``, the
-    sum over chunks of grid steps x :func:`batch_chunk_rounds` (a block of 64 lanes
-    costs the same per step however few lanes it holds). Memory: the result
+    trajectory-steps in all (the work reported); run time from ``setup_steps``, the sum
+    over chunks of grid steps x :func:`shared_chunk_rounds` (the tapes, a thread each),
+    each round also advancing its ``n_forces`` lanes. Memory: the result
     (``SWEEP_BYTES_PER_POINT`` per point) and the buffers of the chunk of
     ``chunk_points`` points being computed (an in-process run computes one chunk at a
     time; each Dask worker holds one more), and ``axis_values`` values of all axes
@@ -368,8 +365,9 @@ def estimate_sweep(
         buffers = 8 * chunk_points + (os.cpu_count() or 1) * STEADY_BYTES_PER_AMPLITUDE
         work, unit = points, "points"
     else:
-        seconds = block_steps * BATCH_S_PER_BLOCK_STEP
-        buffers = BATCH_BYTES_PER_LANE * chunk_points
+        per_step = SHARED_S_PER_SETUP_STEP + n_forces * SHARED_S_PER_LANE_STEP
+        seconds = setup_steps * per_step
+        buffers = BATCH_BYTES_PER_LANE * chunk_points + batch_threads() * TAPE_BYTES
         work, unit = lane_steps, "trajectory-steps"
     return Estimate(
         what=f"sweep (method={method!r}, {points:.3g} points)",

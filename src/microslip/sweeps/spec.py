@@ -49,7 +49,7 @@ def _estimate(
 ) -> budget.Estimate:
     """Work, run time [s] and memory [bytes] from the sizes (no per-point structure)."""
     n_sets = math.prod(len(values) for _, values in param_axes)
-    lane_steps = block_steps = 0.0
+    lane_steps = setup_steps = 0.0
     if method == "time":
         if dt is not None:
             steps = np.full(1, float(math.ceil(duration / dt))) * n_sets
@@ -60,10 +60,10 @@ def _estimate(
         lane_steps = total_steps * n_forces * n_amplitudes
         # Chunks: full ones of amplitude_chunk amplitudes and the remainder.
         full, rest = divmod(n_amplitudes, amplitude_chunk)
-        rounds = full * budget.batch_chunk_rounds(n_forces * amplitude_chunk)
+        rounds = full * budget.shared_chunk_rounds(amplitude_chunk)
         if rest:
-            rounds += budget.batch_chunk_rounds(n_forces * rest)
-        block_steps = total_steps * rounds
+            rounds += budget.shared_chunk_rounds(rest)
+        setup_steps = total_steps * rounds
     values = n_forces + n_amplitudes + sum(len(v) for _, v in param_axes)
     return budget.estimate_sweep(
         method=method,
@@ -71,7 +71,7 @@ def _estimate(
         n_forces=n_forces,
         n_amplitudes=n_amplitudes,
         lane_steps=lane_steps,
-        block_steps=block_steps,
+        setup_steps=setup_steps,
         chunk_points=n_forces * amplitude_chunk,
         axis_values=values,
     )
