@@ -7,6 +7,8 @@
 #   make test         creates .venv if missing and runs the test suite
 #   make docs         creates .venv if missing and builds the documentation (HTML, warnings
 #                     as errors, gallery and tutorial executed) into docs/_build/html
+#   make bench        the performance table of #10 (job, microslip, peer, ratio, accuracy)
+#                     and a scaling plot in benchmarks/out/ (BENCH_ARGS=--quick: ~1 min)
 #   make docs-check   checks the built site's links and images, and screenshots it with
 #                     headless Chromium (Debian: apt-get install chromium; not run by CI)
 PYTHON ?= python3
@@ -44,7 +46,7 @@ format: $(STAMP)
 	$(BIN)/ruff check --fix src tests benchmarks tools
 
 bench: $(STAMP)
-	$(BIN)/python benchmarks/bench_velocity_map.py
+	$(BIN)/python benchmarks/bench_table.py $(BENCH_ARGS)
 
 # Mutation testing of model/, integrators/ and analysis/ in a scratch copy, one mutant at a
 # time. MUTATE_ARGS: --no-jit (screen fast), --module src/microslip/..., --only FILE:LINE.

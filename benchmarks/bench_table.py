@@ -1,0 +1,423 @@
+"""The #10 benchmark table: one run, warm, each job side by side with its peer.
+
+    python benchmarks/bench_table.py [--quick] [--out DIR]
+
+Prints one table (job, microslip, peer, ratio, accuracy, target) to stdout, progress to
+stderr, and writes results.json and scaling.png (time against size, log-log) to DIR
+(default benchmarks/out, not tracked). JIT compilation is excluded from every timing
+(each job runs once on a tiny input first) and measured on its own in subprocesses:
+cold (an empty kernel cache) and warm (import to first result). Times under 1 s are the
+best of three. See benchmarks/README.md for the machine and how to read the table.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+import numpy as np
+
+HERE = Path(__file__).resolve().parent
+sys.path.insert(0, str(HERE))
+sys.path.insert(0, str(HERE.parent / "tests" / "validation"))
+
+import bench_velocity_map as bvm  # noqa: E402  (the NumPy RK4 peer)
+import microslip as ms  # noqa: E402
+
+PARAMS = ms.Parameters()
+T0 = PARAMS.natural_period
+DURATION = 0.05  # s, the time-domain job
+
+
+def log(message: str) -> None:
+    print(message, file=sys.stderr, flush=True)
+
+
+def best_time(function, *args, **kwargs):
+    """(result, seconds): best of three when a run takes under 1 s."""
+    best, result = np.inf, None
+    for _ in range(3):
+        started = time.perf_counter()
+        result = function(*args, **kwargs)
+        elapsed = time.perf_counter() - started
+        best = min(best, elapsed)
+        if elapsed > 1.0:
+            break
+    return result, best
+
+
+def time_map(forces, amplitudes, duration=DURATION):
+    return np.asarray(
+        ms.velocity_map(
+            PARAMS, forces=forces, amplitudes=amplitudes, method="time", duration=duration
+        ).values
+    )
+
+
+def job_time_map(n, peer_n, rows, scaling):
+    """Paper model, n x n (F x A), 0.05 s, dt = T0/200: shared-normal kernel vs NumPy."""
+    forces = np.linspace(0.05, 0.95, n)
+    amplitudes = np.linspace(0.0, 3e-7, n)
+    time_map(forces[:2], amplitudes[:2], 0.001)  # compile
+    v, seconds = best_time(time_map, forces, amplitudes)
+    steps = round(DURATION / (T0 / 200))
+    throughput = n * n * steps / seconds
+    peer_f = np.linspace(0.05, 0.95, peer_n)
+    peer_a = np.linspace(0.0, 3e-7, peer_n)
+    _, peer_seconds = best_time(bvm.numpy_rk4_naive, PARAMS, peer_f, peer_a, T0 / 200)
+    peer_throughput = peer_n * peer_n * steps / peer_seconds
+    # Accuracy: against the event method at rtol 1e-12 on sample points of the grid.
+    rng = np.random.default_rng(1)
+    picks = [(rng.integers(n), rng.integers(n)) for _ in range(10)]
+    errors, reference = [], []
+    for i, j in picks:
+        run = ms.simulate(
+            PARAMS, force=forces[i], amplitude=amplitudes[j], duration=DURATION, rtol=1e-12
+        )
+        reference.append(run.x[-1] / DURATION)
+        errors.append(abs(v[i, j] - reference[-1]))
+    error = max(errors) / max(abs(np.array(reference)).max(), np.abs(v).max())
+    rows.append(
+        {
+            "job": f"time map, paper, {n}x{n}, 0.05 s, dt=T0/200",
+            "microslip": f"{seconds:.3f} s = {throughput:.2e} steps*traj/s",
+            "peer": f"NumPy RK4 {peer_n}x{peer_n}: {peer_throughput:.2e} steps*traj/s",
+            "ratio": throughput / peer_throughput,
+            "accuracy": f"{error:.1e} max v (vs event, 10 pts)",
+            "target": ">= 2e9 steps*traj/s, >= 60x, <= 1e-6",
+            "pass": bool(
+                throughput >= 2e9 and throughput / peer_throughput >= 60 and error <= 1e-6
+            ),
+        }
+    )
+    for size in (32, 64, 128, n):
+        f = np.linspace(0.05, 0.95, size)
+        a = np.linspace(0.0, 3e-7, size)
+        scaling.setdefault("time map (points)", []).append(
+            (size * size, best_time(time_map, f, a)[1])
+        )
+    for duration in (0.0125, 0.025, 0.05):
+        scaling.setdefault("time map 64x64 (duration s x 1e4)", []).append(
+            (
+                duration * 1e4,
+                best_time(time_map, forces[::4][:64], amplitudes[::4][:64], duration)[1],
+            )
+        )
+
+
+def job_forced_time_map(n_forces, n_amplitudes, rows):
+    """Damping + harmonic excitation: forces x excitation amplitude, vs the event path."""
+    model = ms.Model(PARAMS, damping=ms.Viscous(0.05), excitation=ms.HarmonicForce(2.0, 1400.0))
+    forces = np.linspace(0.05, 0.95, n_forces)
+    amps = np.linspace(0.5, 5.0, n_amplitudes)
+
+    def run(f, a, duration=DURATION):
+        return ms.sweep(
+            model, {"excitation.amplitude": a}, force=f, method="time", duration=duration
+        )
+
+    run(forces[:2], amps[:1], 0.001)
+    result, seconds = best_time(run, forces, amps)
+    dt = (1.0 / 1400.0) / 200 if 1.0 / 1400.0 < T0 else T0 / 200
+    steps = DURATION / dt
+    throughput = n_forces * n_amplitudes * steps / seconds
+    samples = [(0, 0), (n_amplitudes - 1, n_forces // 2), (n_amplitudes // 2, n_forces - 1)]
+    values = np.asarray(result.values)
+    peer_seconds, errors, reference = 0.0, [], []
+    for j, i in samples:
+        m = model.replace(**{"excitation.amplitude": float(amps[j])})
+        started = time.perf_counter()
+        x = ms.simulate(m, force=float(forces[i]), duration=DURATION).x[-1]
+        peer_seconds += time.perf_counter() - started
+        ref = ms.simulate(m, force=float(forces[i]), duration=DURATION, rtol=1e-12).x[-1]
+        reference.append(ref / DURATION)
+        errors.append(abs(values.reshape(n_amplitudes, n_forces)[j, i] - ref / DURATION))
+        del x
+    per_traj_peer = peer_seconds / len(samples)
+    per_traj = seconds / (n_forces * n_amplitudes)
+    error = max(errors) / max(np.abs(values).max(), 1e-300)
+    rows.append(
+        {
+            "job": f"time map, Viscous(0.05)+HarmonicForce, {n_forces}x{n_amplitudes}",
+            "microslip": f"{seconds:.3f} s = {throughput:.2e} steps*traj/s",
+            "peer": f"scalar event path: {per_traj_peer * 1e3:.2f} ms/traj",
+            "ratio": per_traj_peer / per_traj,
+            "accuracy": f"{error:.1e} max v (vs event rtol 1e-12)",
+            "target": ">= 1e9 steps*traj/s",
+            "pass": bool(throughput >= 1e9),
+        }
+    )
+    rows.append(
+        {
+            "job": "time map, compliant tangential contact",
+            "microslip": "not supported by the shared kernel yet",
+            "peer": "-",
+            "ratio": float("nan"),
+            "accuracy": "-",
+            "target": ">= 1e9",
+            "pass": False,
+        }
+    )
+
+
+def steady_map(n):
+    f = np.linspace(0.05, 0.95, n)
+    a = np.linspace(0.0, 3e-7, n)
+    return np.asarray(ms.velocity_map(PARAMS, forces=f, amplitudes=a).values)
+
+
+def job_steady_map(n, peer_seconds_64, rows, scaling):
+    steady_map(4)
+    _, seconds = best_time(steady_map, n)
+    import scipy_reference
+
+    forces = np.linspace(0.05, 0.95, n)
+    amplitudes = np.linspace(0.0, 3e-7, n)
+    v = ms.velocity_map(PARAMS, forces=forces[:: n // 4], amplitudes=amplitudes[:: n // 4])
+    v = np.asarray(v.values)
+    errors, refs = [], []
+    for i, fi in enumerate(forces[:: n // 4]):
+        for j, aj in enumerate(amplitudes[:: n // 4]):
+            if aj == 0.0:
+                continue
+            ref = scipy_reference.steady_mean_velocity(PARAMS, fi, aj)
+            if np.isfinite(ref):
+                refs.append(abs(ref))
+                errors.append(abs(v[i, j] - ref))
+    error = max(errors) / max(refs)
+    rows.append(
+        {
+            "job": f"exact steady map {n}x{n}",
+            "microslip": f"{seconds:.3f} s ({seconds / n / n * 1e9:.0f} ns/point)",
+            "peer": f"NumPy RK4 64x64 time job: {peer_seconds_64:.3f} s",
+            "ratio": peer_seconds_64 / seconds,
+            "accuracy": f"{error:.1e} max v (vs scipy steady cycle)",
+            "target": "<= 0.6 x peer time",
+            "pass": bool(seconds <= 0.6 * peer_seconds_64),
+        }
+    )
+    for size in (256, 512, 1024, n):
+        scaling.setdefault("steady map (points)", []).append(
+            (size * size, best_time(steady_map, size)[1])
+        )
+
+
+def job_forced_response(rows):
+    model = ms.Model(PARAMS, damping=ms.Viscous(0.05), excitation=ms.HarmonicForce(2.0, 1000.0))
+    f0 = 1.0 / T0
+    ms.forced_response(model, frequencies=(0.5 * f0, 0.6 * f0), max_points=10)
+    result, seconds = best_time(
+        ms.forced_response, model, frequencies=(0.3 * f0, 2.0 * f0), max_points=400
+    )
+    points = result.sizes[next(iter(result.sizes))]
+    rows.append(
+        {
+            "job": "forced-response curve with stability",
+            "microslip": f"{seconds:.3f} s for {points} points",
+            "peer": "-",
+            "ratio": float("nan"),
+            "accuracy": "-",
+            "target": "<= 1 s for 400 points",
+            "pass": bool(seconds <= 1.0 and points >= 400),
+        }
+    )
+
+
+def job_effective_friction(n, rows):
+    model = ms.Model(
+        PARAMS,
+        damping=ms.Viscous(0.05),
+        excitation=ms.HarmonicForce(2.0, 1400.0),
+        tangential=ms.TangentialSpring(7e7),
+        drive=ms.PrescribedVelocity(1e-4),
+    )
+    speeds = np.geomspace(1e-6, 1e-2, n)
+    amps = np.linspace(0.5, 5.0, n)
+    ms.effective_friction_map(model, speeds[:2], "excitation.amplitude", amps[:1])
+    _, seconds = best_time(ms.effective_friction_map, model, speeds, "excitation.amplitude", amps)
+    per_point = seconds / (n * n)
+    rows.append(
+        {
+            "job": f"mu_eff map {n}x{n} (speed x excitation amplitude)",
+            "microslip": f"{seconds:.3f} s ({per_point * 1e3:.2f} ms/point; 256^2: "
+            f"{per_point * 65536:.0f} s)",
+            "peer": "-",
+            "ratio": float("nan"),
+            "accuracy": "-",
+            "target": "256x256 <= 1 s",
+            "pass": bool(per_point * 65536 <= 1.0),
+        }
+    )
+
+
+SUBPROCESS_FIRST_RESULT = """
+import time, sys
+started = time.perf_counter()
+import numpy as np, microslip as ms
+ms.velocity_map(ms.Parameters(), forces=np.linspace(0.1, 0.9, 4), amplitudes=[1e-7, 2e-7])
+ms.velocity_map(ms.Parameters(), forces=np.linspace(0.1, 0.9, 4), amplitudes=[1e-7, 2e-7],
+                method="time", duration=0.001)
+ms.simulate(ms.Parameters(), force=0.5, amplitude=1e-7, duration=0.001)
+print(time.perf_counter() - started)
+"""
+
+
+def job_jit(rows):
+    with tempfile.TemporaryDirectory() as cache:
+        env = dict(os.environ, MICROSLIP_CACHE_DIR=cache)
+        run = [sys.executable, "-c", SUBPROCESS_FIRST_RESULT]
+        cold = float(
+            subprocess.run(run, env=env, capture_output=True, text=True, check=True).stdout.split()[
+                -1
+            ]
+        )
+        warm = float(
+            subprocess.run(run, env=env, capture_output=True, text=True, check=True).stdout.split()[
+                -1
+            ]
+        )
+    rows.append(
+        {
+            "job": "JIT: import to first results (steady map, time map, simulate)",
+            "microslip": f"cold {cold:.1f} s, warm {warm:.2f} s",
+            "peer": "-",
+            "ratio": float("nan"),
+            "accuracy": "-",
+            "target": "cold <= 20 s (these kernels), warm <= 1 s",
+            "pass": bool(cold <= 20.0 and warm <= 1.0),
+        }
+    )
+
+
+SUBPROCESS_STORE = """
+import resource, sys, numpy as np, microslip as ms
+n = int(sys.argv[1])
+ms.velocity_map(ms.Parameters(), forces=np.linspace(0.05, 0.95, n),
+                amplitudes=np.linspace(0.0, 3e-7, n), store=sys.argv[2], allow_large=True)
+print(resource.getrusage(resource.RUSAGE_SELF).ru_maxrss * 1024)
+"""
+
+
+def job_memory(n, rows):
+    with tempfile.TemporaryDirectory() as tmp:
+        started = time.perf_counter()
+        out = subprocess.run(
+            [sys.executable, "-c", SUBPROCESS_STORE, str(n), f"{tmp}/map.zarr"],
+            capture_output=True,
+            text=True,
+        )
+        seconds = time.perf_counter() - started
+    if out.returncode != 0:
+        text = f"failed: {out.stderr.strip().splitlines()[-1] if out.stderr else out.returncode}"
+        rows.append(
+            {
+                "job": f"memory, steady {n}x{n} via store",
+                "microslip": text,
+                "peer": "-",
+                "ratio": float("nan"),
+                "accuracy": "-",
+                "target": "<= 1 GB",
+                "pass": False,
+            }
+        )
+        return
+    rss = float(out.stdout.split()[-1])
+    rows.append(
+        {
+            "job": f"memory, steady {n}x{n} through the chunk store",
+            "microslip": f"peak RSS {rss / 2**20:.0f} MiB in {seconds:.0f} s",
+            "peer": "-",
+            "ratio": float("nan"),
+            "accuracy": "-",
+            "target": "<= 1 GB",
+            "pass": bool(rss <= 1e9),
+        }
+    )
+
+
+def plot(scaling, path):
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fig, ax = plt.subplots(figsize=(6.4, 4.4))
+    for name, points in scaling.items():
+        size, seconds = np.array(points).T
+        ax.loglog(size, seconds, "o-", label=name)
+    ax.set_xlabel("size (points, or duration [s] x 1e4)")
+    ax.set_ylabel("run time [s]")
+    ax.set_title("microslip: run time against job size (warm)")
+    ax.grid(True, which="both", alpha=0.3)
+    ax.legend(fontsize=8)
+    fig.tight_layout()
+    fig.savefig(path, dpi=120)
+    plt.close(fig)
+
+
+def main(argv=None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--quick", action="store_true", help="small sizes (about a minute)")
+    parser.add_argument("--out", type=Path, default=HERE / "out")
+    args = parser.parse_args(argv)
+    args.out.mkdir(parents=True, exist_ok=True)
+    quick = args.quick
+    rows, scaling = [], {}
+    log(f"machine: {os.cpu_count()} CPUs, load {os.getloadavg()[0]:.2f}")
+    log("time map ...")
+    job_time_map(64 if quick else 256, 32 if quick else 64, rows, scaling)
+    log("forced time map ...")
+    job_forced_time_map(64, 8 if quick else 64, rows)
+    log("steady map ...")
+    _, peer64 = best_time(
+        bvm.numpy_rk4_naive,
+        PARAMS,
+        np.linspace(0.05, 0.95, 64),
+        np.linspace(0.0, 3e-7, 64),
+        T0 / 200,
+    )
+    job_steady_map(512 if quick else 2048, peer64, rows, scaling)
+    log("forced response ...")
+    job_forced_response(rows)
+    log("effective friction ...")
+    job_effective_friction(4 if quick else 8, rows)
+    log("JIT ...")
+    job_jit(rows)
+    log("memory ...")
+    job_memory(1024 if quick else 8192, rows)
+    plot(scaling, args.out / "scaling.png")
+    (args.out / "results.json").write_text(
+        json.dumps(
+            {"rows": rows, "scaling": scaling, "load": os.getloadavg()[0]}, indent=1, default=str
+        )
+    )
+    header = ("job", "microslip", "peer", "ratio", "accuracy", "target", "pass")
+    print(" | ".join(header))
+    print(" | ".join("---" for _ in header))
+    for r in rows:
+        ratio = "-" if not np.isfinite(r["ratio"]) else f"{r['ratio']:.1f}x"
+        print(
+            " | ".join(
+                [
+                    r["job"],
+                    r["microslip"],
+                    r["peer"],
+                    ratio,
+                    r["accuracy"],
+                    r["target"],
+                    "yes" if r["pass"] else "no",
+                ]
+            )
+        )
+    log(f"wrote {args.out / 'results.json'} and {args.out / 'scaling.png'}")
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())
