@@ -373,7 +373,7 @@ def main(argv=None) -> int:
     log("time map ...")
     job_time_map(64 if quick else 256, 32 if quick else 64, rows, scaling)
     log("forced time map ...")
-    job_forced_time_map(64, 8 if quick else 64, rows)
+    job_forced_time_map(64 if quick else 256, 8 if quick else 64, rows)
     log("steady map ...")
     _, peer64 = best_time(
         bvm.numpy_rk4_naive,
