@@ -56,6 +56,19 @@ def as_tuple(c):
 
 
 @njit(cache=True, inline="always")
+def next_grid_point(t, t0, k, dt, t_end):
+    """(target [s], k): the first point t0 + k·dt of the fixed-step grid past t (from
+    index k on), or t_end when that is past, or within 1e-9 dt of, the end."""
+    while True:
+        target = t0 + k * dt
+        if target >= t_end or t_end - target < 1e-9 * dt:
+            target = t_end
+        if target > t:
+            return target, k
+        k += 1
+
+
+@njit(cache=True, inline="always")
 def copy_state(src, dst):
     for i in range(src.shape[0]):
         dst[i] = src[i]
@@ -135,12 +148,7 @@ def integrate_chunk(
             status = OUTPUT_FULL
             break
         if method == RK4:
-            target = t0 + k * dt
-            if target >= t_end or t_end - target < 1e-9 * dt:
-                target = t_end
-            if target <= t:
-                k += 1
-                continue
+            target, k = next_grid_point(t, t0, k, dt, t_end)
             h = target - t
         else:
             h = min(h_ctrl, h_max)

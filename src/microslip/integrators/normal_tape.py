@@ -34,7 +34,12 @@ import numpy as np
 from numba import njit
 
 from microslip import _jit_cache  # noqa: F401  (registers the cache before any @njit)
-from microslip.integrators.kernel import MAX_SWITCHES_PER_STEP, STALLED, as_tuple
+from microslip.integrators.kernel import (
+    MAX_SWITCHES_PER_STEP,
+    STALLED,
+    as_tuple,
+    next_grid_point,
+)
 from microslip.integrators.methods import RK4, WORK_ROWS, advance
 from microslip.integrators.switching import _CLEAR as CLEAR
 from microslip.integrators.switching import _screen as screen
@@ -304,12 +309,7 @@ def fill_tape(carry, c_array, t_end, dt, tape, work):
         if rows >= tape.shape[0]:
             status = 1
             break
-        target = k * dt
-        if target >= t_end or t_end - target < 1e-9 * dt:
-            target = t_end
-        if target <= t:
-            k += 1
-            continue
+        target, k = next_grid_point(t, 0.0, k, dt, t_end)
         h = target - t
         y1, v1 = _rk4(t, h, y, v, c)
         t1 = target
