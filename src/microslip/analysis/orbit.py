@@ -7,20 +7,22 @@ y(T - t) = y(t) and ẏ(T - t) = -ẏ(t). A loss of contact (y < 0, A > y0) is a
 parabola and is kept in closed form; the contact phase is integrated once with fixed
 Dormand–Prince 5th-order steps and read back by quintic Hermite interpolation
 (values, slopes and the exact accelerations of (2.4) at the nodes).
+
+:func:`steady_slip` reads the steady stick–slip cycle off the table: each crossing (release
+at y*, stop at ẋ = 0) is located by bisection over the nodes, where y, ẏ and ẋ are known
+exactly, and solved by Newton on that one interval (:func:`interval_root`), with the node
+accelerations precomputed (:func:`node_accelerations`): no transcendental call per point.
 """
 
 from __future__ import annotations
 
 import math
 
-import numpy as np
 from numba import njit
 
 from microslip import _jit_cache  # noqa: F401  (registers the cache before any @njit)
-from microslip.integrators.methods import DP54, WORK_ROWS, advance
 from microslip.model.coefficients import AREA_CN, EXPONENT, GRAVITY, MASS
 from microslip.model.normal import normal_acceleration
-from microslip.model.system import N_STATE, YDOT, Y
 
 # Summary slots of an orbit.
 O_TOP = 0  # y at the highest point [m]
@@ -61,9 +63,56 @@ def lowest_point(y_top, c):
     return y
 
 
+# Dormand–Prince 5(4) tableau (the coefficients of microslip.integrators.steppers).
+_A21 = 1.0 / 5.0
+_A31, _A32 = 3.0 / 40.0, 9.0 / 40.0
+_A41, _A42, _A43 = 44.0 / 45.0, -56.0 / 15.0, 32.0 / 9.0
+_A51, _A52, _A53, _A54 = 19372.0 / 6561.0, -25360.0 / 2187.0, 64448.0 / 6561.0, -212.0 / 729.0
+_A61, _A62, _A63, _A64, _A65 = (
+    9017.0 / 3168.0,
+    -355.0 / 33.0,
+    46732.0 / 5247.0,
+    49.0 / 176.0,
+    -5103.0 / 18656.0,
+)
+_B1, _B3, _B4, _B5, _B6 = 35.0 / 384.0, 500.0 / 1113.0, 125.0 / 192.0, -2187.0 / 6784.0, 11.0 / 84.0
+
+
+@njit(cache=True, inline="always")
+def _dp54(y, v, h, c):
+    """One 5th-order Dormand–Prince step of (2.4) from (y [m], ẏ [m/s]) over h [s].
+
+    The same arithmetic as the y, ẏ components of the general stepper, on the two normal
+    states only (the free normal motion is autonomous and does not depend on x).
+    """
+    a1 = normal_acceleration(0.0, y, v, c)
+    y2 = y + h * (_A21 * v)
+    v2 = v + h * (_A21 * a1)
+    a2 = normal_acceleration(0.0, y2, v2, c)
+    y3 = y + h * (_A31 * v + _A32 * v2)
+    v3 = v + h * (_A31 * a1 + _A32 * a2)
+    a3 = normal_acceleration(0.0, y3, v3, c)
+    y4 = y + h * (_A41 * v + _A42 * v2 + _A43 * v3)
+    v4 = v + h * (_A41 * a1 + _A42 * a2 + _A43 * a3)
+    a4 = normal_acceleration(0.0, y4, v4, c)
+    y5 = y + h * (_A51 * v + _A52 * v2 + _A53 * v3 + _A54 * v4)
+    v5 = v + h * (_A51 * a1 + _A52 * a2 + _A53 * a3 + _A54 * a4)
+    a5 = normal_acceleration(0.0, y5, v5, c)
+    y6 = y + h * (_A61 * v + _A62 * v2 + _A63 * v3 + _A64 * v4 + _A65 * v5)
+    v6 = v + h * (_A61 * a1 + _A62 * a2 + _A63 * a3 + _A64 * a4 + _A65 * a5)
+    a6 = normal_acceleration(0.0, y6, v6, c)
+    y_new = y + h * (_B1 * v + _B3 * v3 + _B4 * v4 + _B5 * v5 + _B6 * v6)
+    v_new = v + h * (_B1 * a1 + _B3 * a3 + _B4 * a4 + _B5 * a5 + _B6 * a6)
+    return y_new, v_new
+
+
 @njit(cache=True, inline="always")
 def _hermite(y0, v0, a0, y1, v1, a1, h, s):
-    """Quintic Hermite value and derivative on [0, h] at fraction s."""
+    """Quintic Hermite value and derivative on [0, h] at fraction s.
+
+    The slope takes y0 - y1 first: y0 d0 / h alone is ~|y| / h, far above ẏ, and would
+    leave ẏ with that term's rounding.
+    """
     s2 = s * s
     s3 = s2 * s
     s4 = s3 * s
@@ -79,9 +128,8 @@ def _hermite(y0, v0, a0, y1, v1, a1, h, s):
     d2 = 0.5 * (2.0 * s - 9.0 * s2 + 12.0 * s3 - 5.0 * s4)
     d3 = 0.5 * (3.0 * s2 - 8.0 * s3 + 5.0 * s4)
     d4 = -12.0 * s2 + 28.0 * s3 - 15.0 * s4
-    d5 = -d0
     value = y0 * h0 + h * v0 * h1 + h * h * a0 * h2 + h * h * a1 * h3 + h * v1 * h4 + y1 * h5
-    slope = (y0 * d0 + y1 * d5) / h + v0 * d1 + h * a0 * d2 + h * a1 * d3 + v1 * d4
+    slope = (y0 - y1) * d0 / h + v0 * d1 + h * a0 * d2 + h * a1 * d3 + v1 * d4
     return value, slope
 
 
@@ -98,30 +146,24 @@ def build_half_orbit(amplitude, c, steps_per_half, ys, yds, summary):
     y_bottom = lowest_point(y_top, c)
     stiffness = c[EXPONENT] * c[AREA_CN] * y_bottom ** (c[EXPONENT] - 1.0)
     h = math.pi / (math.sqrt(stiffness / c[MASS]) * steps_per_half)
-    # The normal motion in the model's state (x, ẋ stay 0 in stick, mode 0).
-    s = np.zeros(N_STATE)
-    if y_top < 0.0:
+    if y_top < 0.0:  # free fall down to the first contact at y = 0
         t_flight = math.sqrt(-2.0 * y_top / g)
-        s[YDOT] = g * t_flight
+        y, v = 0.0, g * t_flight
     else:
         t_flight = 0.0
-        s[Y] = y_top
-    s_next = np.empty(N_STATE)
-    work = np.empty((WORK_ROWS, N_STATE))
-    atol = np.ones(N_STATE)  # fixed steps: the error norm is not used
+        y, v = y_top, 0.0
     capacity = ys.shape[0]
-    ys[0] = s[Y]
-    yds[0] = s[YDOT]
+    ys[0] = y
+    yds[0] = v
     n = 1
     while True:
         if n >= capacity:
             return False
-        advance(DP54, s, 0.0, h, 0.0, c, 1.0, atol, s_next, work)
-        s, s_next = s_next, s
-        ys[n] = s[Y]
-        yds[n] = s[YDOT]
+        y, v = _dp54(y, v, h, c)
+        ys[n] = y
+        yds[n] = v
         n += 1
-        if s[YDOT] <= 0.0:
+        if v <= 0.0:
             break
     # The bottom (ẏ = 0) lies in the last interval: bisect the interpolated slope.
     a0 = normal_acceleration(0.0, ys[n - 2], 0.0, c)
@@ -144,78 +186,134 @@ def build_half_orbit(amplitude, c, steps_per_half, ys, yds, summary):
 
 
 @njit(cache=True)
-def orbit_state(t, ys, yds, summary, c):
-    """(y [m], ẏ [m/s]) at time t [s] after the top, for any t in [0, T]."""
-    half = summary[O_HALF]
-    direction = 1.0
-    if t > half:
-        t = 2.0 * half - t
-        direction = -1.0
-    if t < 0.0:
-        t = 0.0
-    t_flight = summary[O_FLIGHT]
-    if t < t_flight:
-        g = c[GRAVITY]
-        return summary[O_TOP] + 0.5 * g * t * t, direction * g * t
-    h = summary[O_STEP]
-    u = (t - t_flight) / h
-    i = int(u)
-    last = int(summary[O_NODES]) - 2
-    if i > last:
-        i = last
-    y_a, y_b = ys[i], ys[i + 1]
-    value, slope = _hermite(
-        y_a,
-        yds[i],
-        normal_acceleration(0.0, y_a, 0.0, c),
-        y_b,
-        yds[i + 1],
-        normal_acceleration(0.0, y_b, 0.0, c),
-        h,
-        u - i,
-    )
-    return value, direction * slope
+def node_accelerations(ys, summary, c, ydds):
+    """ydds[k] = ÿ [m/s^2] of (2.4) at the table nodes (the Hermite data of table_state)."""
+    for k in range(int(summary[O_NODES])):
+        ydds[k] = normal_acceleration(0.0, ys[k], 0.0, c)
 
 
-@njit(cache=True)
-def time_at_height(y_target, ys, yds, summary, c):
-    """The time t in [0, T/2] [s] at which the descending motion passes y = y_target [m].
+@njit(cache=True, inline="always")
+def _hermite_curvature(y0, v0, a0, y1, v1, a1, h, s):
+    """Second derivative [m/s^2] of the quintic Hermite of :func:`_hermite` at fraction s."""
+    s2 = s * s
+    s3 = s2 * s
+    e0 = -60.0 * s + 180.0 * s2 - 120.0 * s3
+    e1 = -36.0 * s + 96.0 * s2 - 60.0 * s3
+    e2 = 1.0 - 9.0 * s + 18.0 * s2 - 10.0 * s3
+    e3 = 3.0 * s - 12.0 * s2 + 10.0 * s3
+    e4 = -24.0 * s + 84.0 * s2 - 60.0 * s3
+    return (y0 - y1) * e0 / (h * h) + (v0 * e1 + v1 * e4) / h + a0 * e2 + a1 * e3
 
-    Requires y_top < y_target < y_bottom.
+
+@njit(cache=True, inline="always")
+def table_state(k, s, ys, yds, ydds, h):
+    """(y [m], ẏ [m/s]) at fraction s of table interval k (node times k h, k h + h)."""
+    return _hermite(ys[k], yds[k], ydds[k], ys[k + 1], yds[k + 1], ydds[k + 1], h, s)
+
+
+@njit(cache=True, inline="always")
+def interval_root(k, s, s_lo, s_hi, w_y, w_v, gamma, const, tol, ys, yds, ydds, h):
+    """Root s in [s_lo, s_hi] of f(s) = w_y y + w_v ẏ + gamma s + const on interval k.
+
+    y, ẏ are the Hermite interpolant at fraction s of interval k; f must increase from
+    f(s_lo) <= 0 to f(s_hi) >= 0. Newton from the guess s, with bisection whenever a step
+    leaves the bracket, until a step or the bracket is below ``tol`` (fraction units).
     """
-    t_flight = summary[O_FLIGHT]
-    if y_target <= 0.0:  # in free fall: closed form
-        return math.sqrt(2.0 * (y_target - summary[O_TOP]) / c[GRAVITY])
-    n = int(summary[O_NODES])
-    lo_i, hi_i = 0, n - 2  # ys increases up to the bottom interval
-    while hi_i - lo_i > 1:
-        mid = (lo_i + hi_i) // 2
-        if ys[mid] <= y_target:
-            lo_i = mid
-        else:
-            hi_i = mid
-    h = summary[O_STEP]
-    lo = t_flight + lo_i * h
-    hi = min(t_flight + (lo_i + 1) * h, summary[O_HALF])
-    if ys[lo_i + 1] <= y_target:  # target in the last, partly used interval
-        lo = t_flight + (lo_i + 1) * h
-        hi = summary[O_HALF]
-    t = 0.5 * (lo + hi)
+    y_a, v_a, a_a = ys[k], yds[k], ydds[k]
+    y_b, v_b, a_b = ys[k + 1], yds[k + 1], ydds[k + 1]
+    if not (s_lo < s < s_hi):
+        s = 0.5 * (s_lo + s_hi)
     for _ in range(100):
-        y, yd = orbit_state(t, ys, yds, summary, c)
-        if y < y_target:
-            lo = t
+        y, yd = _hermite(y_a, v_a, a_a, y_b, v_b, a_b, h, s)
+        f = w_y * y + w_v * yd + gamma * s + const
+        if f < 0.0:
+            s_lo = s
         else:
-            hi = t
-        step = (y - y_target) / yd if yd > 0.0 else 0.0
-        t_new = t - step
-        if not (lo < t_new < hi):
-            t_new = 0.5 * (lo + hi)
-        if abs(t_new - t) <= 1e-15 * (t + h) or hi - lo <= 1e-15 * (t + h):
-            t = t_new
+            s_hi = s
+        slope = w_y * yd * h + gamma
+        if w_v != 0.0:
+            slope += w_v * h * _hermite_curvature(y_a, v_a, a_a, y_b, v_b, a_b, h, s)
+        s_new = s - f / slope if slope > 0.0 else 0.5 * (s_lo + s_hi)
+        if not (s_lo < s_new < s_hi):
+            s_new = 0.5 * (s_lo + s_hi)
+        converged = abs(s_new - s) <= tol or s_hi - s_lo <= tol
+        s = s_new
+        if converged:
             break
-        t = t_new
-    return t
+    return s
+
+
+@njit(cache=True, inline="always")
+def steady_slip(y_release, accel, mu, ys, yds, ydds, summary):
+    """(slip time [s], slip distance [m], peak speed [m/s], t_d [s]) of the steady cycle.
+
+    For μ min|R| < F <= μ m g, with y* = ``y_release`` [m] and a = ``accel`` [m/s^2]. Both
+    crossings (release at y*, stop at ẋ = 0) are located by bisection over the table
+    nodes, where y, ẏ and ẋ are known without interpolation, then solved by Newton on the
+    quintic Hermite of that one interval (:func:`interval_root`).
+    """
+    h = summary[O_STEP]
+    t_flight = summary[O_FLIGHT]
+    half = summary[O_HALF]
+    period = 2.0 * half
+    last = int(summary[O_NODES]) - 2  # the bottom lies in interval `last`
+    s_half = (half - (t_flight + last * h)) / h
+    # Release: the descending motion passes y* at t_d (ys increases up to the bottom).
+    k_d, hi = 0, last
+    while hi - k_d > 1:
+        mid = (k_d + hi) >> 1
+        if ys[mid] <= y_release:
+            k_d = mid
+        else:
+            hi = mid
+    if ys[k_d + 1] <= y_release:  # in the last, partly used interval
+        k_d += 1
+    rise = ys[k_d + 1] - ys[k_d]
+    guess = (y_release - ys[k_d]) / rise if rise > 0.0 else 0.5
+    s_top = s_half if k_d == last else 1.0
+    tol = 1e-15 * (t_flight / h + k_d + 2.0)
+    s_d = interval_root(k_d, guess, 0.0, s_top, 1.0, 0.0, 0.0, -y_release, tol, ys, yds, ydds, h)
+    t_d = t_flight + (k_d + s_d) * h
+    _y, speed_d = table_state(k_d, s_d, ys, yds, ydds, h)
+    # ẋ(t) = a (t + t_d) + μ (ẏ(t) + speed_d) with the release at t = -t_d (top at 0); it
+    # decreases on [t_d, T - t_d], from its peak to a T <= 0. Its zero lies in the descent
+    # (t <= T/2) or in the rise, t = T - σ, with σ read on the same half-orbit table.
+    base = accel * t_d + mu * speed_d
+    descent = accel * (half + t_d) + mu * speed_d <= 0.0
+    k, hi = k_d, last + 1
+    while hi - k > 1:
+        mid = (k + hi) >> 1
+        t_mid = t_flight + mid * h
+        if descent:
+            before = accel * t_mid + base + mu * yds[mid] > 0.0
+        else:
+            before = accel * (period - t_mid) + base - mu * yds[mid] <= 0.0
+        if before:
+            k = mid
+        else:
+            hi = mid
+    # f = -ẋ(t_k + s h) in the descent, ẋ(T - t_k - s h) in the rise: increasing in s.
+    t_k = t_flight + k * h
+    const = -(accel * t_k + base) if descent else accel * (period - t_k) + base
+    f0 = const - mu * yds[k]
+    f1 = const - mu * yds[k + 1] - accel * h
+    guess = f0 / (f0 - f1) if f0 < f1 else 0.5
+    s_lo = s_d if k == k_d else 0.0
+    s_hi = s_half if k == last else 1.0
+    tol = 2e-16 * period / h
+    gamma = -accel * h
+    s = interval_root(k, guess, s_lo, s_hi, 0.0, -mu, gamma, const, tol, ys, yds, ydds, h)
+    y_stop, _yd = table_state(k, s, ys, yds, ydds, h)
+    t = t_flight + (k + s) * h
+    if not descent:
+        t = period - t
+    slip_time = t + t_d
+    distance = (
+        0.5 * accel * slip_time * slip_time + mu * (y_stop - y_release) + mu * speed_d * slip_time
+    )
+    # Just above the threshold these terms cancel down to rounding of y (~1e-13 y0); the
+    # slider never moves backwards (F >= 0), so a negative residue is no slip at all.
+    return slip_time, max(distance, 0.0), max(2.0 * base, 0.0), t_d
 
 
 def orbit_capacity(steps_per_half: int) -> int:

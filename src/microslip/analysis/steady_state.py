@@ -20,7 +20,9 @@ the motion is periodic: it is released when μ|R| falls to F, i.e. when the risi
 passes y* = (F/(μ S c_n))^(1/m2), and stops at the first later zero of ẋ. The mean
 velocity is the slip distance of one cycle divided by T. Only the free normal
 vibration is computed numerically (:mod:`microslip.analysis.orbit`), once per amplitude
-and shared by every force.
+and shared by every force; y* depends on F alone and is shared by every amplitude. Both
+crossings are found on the table without a transcendental call per point
+(:func:`orbit.steady_slip`).
 """
 
 from __future__ import annotations
@@ -56,6 +58,8 @@ __all__ = ["StickSlipCycle", "mean_velocity", "mean_velocity_grid", "stick_slip_
 # touchdown and the fixed steps lose order there: measured 6.4e-9 (m2 = 1.5) and 8.6e-8
 # (m2 = 10/9) at A = 1.3 y0 (tests/validation/test_fact6_steady_state_exponents.py).
 ORBIT_STEPS = 256
+BATCH_AMPLITUDES = 32  # orbit tables held at once by mean_velocity_grid
+LANES = 16  # force lanes per amplitude: the work units of mean_velocity_grid
 
 # Slots of a cycle record.
 CY_MEAN, CY_PERIOD, CY_SLIP_TIME, CY_DISTANCE, CY_PEAK, CY_RELEASE = range(6)
@@ -65,18 +69,24 @@ PAPER_ONLY = {"damping": (None,), "excitation": (None,)}
 FALLBACK_PERIODS = 200  # simulated excitation periods where the response is not period-1
 
 
+@njit(cache=True, inline="always")
+def _release_height(force, c):
+    """y* [m] where μ|R| = F [N] (2.3); 0 for F <= 0."""
+    return (force / (c[MU] * c[AREA_CN])) ** (1.0 / c[EXPONENT]) if force > 0.0 else 0.0
+
+
 @njit(cache=True)
-def steady_cycle(force, ys, yds, summary, c, out):
+def steady_cycle(force, ys, yds, ydds, summary, c, out):
     """Fill ``out`` (CY_* slots, SI units) with the steady cycle under force F [N].
 
-    No motion (F <= μ min|R|): mean velocity 0. No steady state (F > μ m g): mean
-    velocity +inf and the other slots NaN.
+    ``ydds`` holds the node accelerations (:func:`orbit.node_accelerations`). No motion
+    (F <= μ min|R|): mean velocity 0. No steady state (F > μ m g): mean velocity +inf
+    and the other slots NaN.
     """
     period = 2.0 * summary[orbit.O_HALF]
     mu = c[MU]
     mass = c[MASS]
-    y_top = summary[orbit.O_TOP]
-    threshold = mu * elastic_force(y_top, c)
+    threshold = mu * elastic_force(summary[orbit.O_TOP], c)
     out[CY_PERIOD] = period
     if not force > threshold:
         out[CY_MEAN] = 0.0
@@ -90,42 +100,14 @@ def steady_cycle(force, ys, yds, summary, c, out):
         for k in range(CY_PERIOD, CY_SIZE):
             out[k] = math.nan
         return
-    y_release = (force / (mu * c[AREA_CN])) ** (1.0 / c[EXPONENT])
-    t_d = orbit.time_at_height(y_release, ys, yds, summary, c)
-    _y, speed_d = orbit.orbit_state(t_d, ys, yds, summary, c)
     accel = (force - mu * mass * c[GRAVITY]) / mass
-    # ẋ(t) = accel (t + t_d) + μ (ẏ(t) + speed_d) with the release at t = -t_d (top at 0);
-    # it decreases on [t_d, T - t_d], from its peak to accel·T <= 0.
-    lo = t_d
-    hi = period - t_d
-    t = 0.5 * (lo + hi)
-    for _ in range(200):
-        y, yd = orbit.orbit_state(t, ys, yds, summary, c)
-        v = accel * (t + t_d) + mu * (yd + speed_d)
-        if v > 0.0:
-            lo = t
-        else:
-            hi = t
-        dv = (force - mu * elastic_force(y, c)) / mass
-        t_new = t - v / dv if dv < 0.0 else 0.5 * (lo + hi)
-        if not (lo < t_new < hi):
-            t_new = 0.5 * (lo + hi)
-        converged = abs(t_new - t) <= 2e-16 * period or hi - lo <= 2e-16 * period
-        t = t_new
-        if converged:
-            break
-    y_stop, _yd = orbit.orbit_state(t, ys, yds, summary, c)
-    slip_time = t + t_d
-    distance = (
-        0.5 * accel * slip_time * slip_time + mu * (y_stop - y_release) + mu * speed_d * slip_time
+    slip_time, distance, peak, t_d = orbit.steady_slip(
+        _release_height(force, c), accel, mu, ys, yds, ydds, summary
     )
-    # Just above the threshold these terms cancel down to rounding of y (~1e-13 y0); the
-    # slider never moves backwards (F >= 0), so a negative residue is no slip at all.
-    distance = max(distance, 0.0)
     out[CY_MEAN] = distance / period
     out[CY_SLIP_TIME] = slip_time
     out[CY_DISTANCE] = distance
-    out[CY_PEAK] = max(2.0 * (accel * t_d + mu * speed_d), 0.0)
+    out[CY_PEAK] = peak
     out[CY_RELEASE] = period - t_d
 
 
@@ -139,27 +121,67 @@ def _no_vibration(force, c):
 def mean_velocity_grid(forces, amplitudes, c, steps, out):
     """out[i, j] = mean velocity [m/s] at forces[i] [N], amplitudes[j] [m].
 
-    Returns False if an orbit table overflowed (not expected for valid input).
+    Amplitudes are taken in batches: their orbit tables are built in parallel, then the
+    batch's points are shared out in work units of one amplitude and one lane of forces
+    (every LANES-th force, so that each unit spans the whole force range). Each point is
+    computed on its own (no state carried between points), so the result is bit-identical
+    whatever the grid's split and the thread count. Returns False if an orbit table
+    overflowed (not expected for valid input).
     """
-    ok = True
-    capacity = 16 * steps + 16
-    for j in prange(amplitudes.shape[0]):
-        amplitude = amplitudes[j]
-        if amplitude == 0.0:
-            for i in range(forces.shape[0]):
-                out[i, j] = _no_vibration(forces[i], c)
-            continue
-        ys = np.empty(capacity)
-        yds = np.empty(capacity)
-        summary = np.empty(orbit.O_SIZE)
-        cycle = np.empty(CY_SIZE)
-        if not orbit.build_half_orbit(amplitude, c, steps, ys, yds, summary):
-            ok = False
-            continue
-        for i in range(forces.shape[0]):
-            steady_cycle(forces[i], ys, yds, summary, c, cycle)
-            out[i, j] = cycle[CY_MEAN]
-    return ok
+    n_f = forces.shape[0]
+    n_a = amplitudes.shape[0]
+    mu = c[MU]
+    mass = c[MASS]
+    limit = mu * mass * c[GRAVITY]
+    y_release = np.empty(n_f)  # depends on F only: shared by every amplitude
+    accel = np.empty(n_f)
+    for i in range(n_f):
+        y_release[i] = _release_height(forces[i], c)
+        accel[i] = (forces[i] - limit) / mass
+    capacity = 16 * steps + 16  # orbit.orbit_capacity
+    batch = max(min(n_a, BATCH_AMPLITUDES), 1)
+    ys = np.empty((batch, capacity))
+    yds = np.empty((batch, capacity))
+    ydds = np.empty((batch, capacity))
+    summary = np.zeros((batch, orbit.O_SIZE))
+    state = np.zeros(batch, dtype=np.int64)  # 0: A = 0, 1: table built, 2: overflow
+    lanes = max(min(n_f, LANES), 1)
+    failed = False
+    for start in range(0, n_a, batch):
+        count = min(batch, n_a - start)
+        for b in prange(count):
+            amplitude = amplitudes[start + b]
+            state[b] = 0
+            if amplitude != 0.0:
+                state[b] = 2
+                if orbit.build_half_orbit(amplitude, c, steps, ys[b], yds[b], summary[b]):
+                    orbit.node_accelerations(ys[b], summary[b], c, ydds[b])
+                    state[b] = 1
+        for unit in prange(count * lanes):
+            b = unit // lanes
+            j = start + b
+            if state[b] == 0:
+                for i in range(unit % lanes, n_f, lanes):
+                    out[i, j] = _no_vibration(forces[i], c)
+                continue
+            if state[b] == 2:
+                continue
+            period = 2.0 * summary[b, orbit.O_HALF]
+            threshold = mu * elastic_force(summary[b, orbit.O_TOP], c)
+            for i in range(unit % lanes, n_f, lanes):
+                force = forces[i]
+                if not force > threshold:
+                    out[i, j] = 0.0
+                elif force > limit:
+                    out[i, j] = math.inf
+                else:
+                    _t, distance, _p, _d = orbit.steady_slip(
+                        y_release[i], accel[i], mu, ys[b], yds[b], ydds[b], summary[b]
+                    )
+                    out[i, j] = distance / period
+        for b in range(count):
+            failed = failed or state[b] == 2
+    return not failed
 
 
 @dataclass(frozen=True)
@@ -211,10 +233,12 @@ def _cycle_record(params: Parameters, force: float, amplitude: float) -> np.ndar
             record[CY_PERIOD:] = np.nan
         return record
     capacity = orbit.orbit_capacity(ORBIT_STEPS)
-    ys, yds, summary = np.empty(capacity), np.empty(capacity), np.empty(orbit.O_SIZE)
+    ys, yds, ydds = np.empty(capacity), np.empty(capacity), np.empty(capacity)
+    summary = np.empty(orbit.O_SIZE)
     if not orbit.build_half_orbit(amplitude, c, ORBIT_STEPS, ys, yds, summary):
         raise RuntimeError(f"orbit table overflow at amplitude={amplitude!r} m")
-    steady_cycle(force, ys, yds, summary, c, record)
+    orbit.node_accelerations(ys, summary, c, ydds)
+    steady_cycle(force, ys, yds, ydds, summary, c, record)
     return record
 
 
