@@ -1,28 +1,42 @@
-"""Effective friction under normal vibration: μ_eff = <F_t>/<N> of a kinematically driven
-body (docs/theory/friction_reduction.md).
+"""Effective friction under normal vibration: μ_eff = <F_t>/<N> in the steady state
+(docs/theory/friction_reduction.md).
 
-The body moves at a prescribed velocity v (``drive=PrescribedVelocity(v)``); the contact
-transmits the friction force F_t (on the body -F_t along the drive, the force the drive
-must supply). With a rigid tangential contact the body never sticks and μ_eff = μ(|v|)
-exactly for every normal motion (identity 6). With a compliant contact the contact point
-sticks where the friction limit rises faster than the spring can load it (μ_k dN/dt >
-k_t v) and μ_eff falls below μ_k, by β D(ṽ) for the flat punch (:func:`flat_punch_reduction`).
+F_t is the friction force the contact transmits, taken positive along the drive: with
+the simulation's sign (eq. 2.5, ``SimulationResult.Ft`` is the force on the body) it is
+-Ft sgn(drive), the force the drive must supply against friction. μ_eff < μ_k is a
+friction reduction.
 
-Exact path: the normal motion is periodic (prescribed penetration, a stable period-1
-forced orbit, the undamped free vibration); the full system is integrated period by
-period with the event method until the tangential state at the period start repeats (a
-slip erases the memory, so this takes a few periods), then the last period is integrated
-again with output at Gauss–Legendre nodes between its switching instants, where f and N
-are smooth: the averages carry the integration tolerance (~1e-10 relative), not a
-sampling error. A forced response that is not period-1 falls back to a time average
-with an error estimate (``method="time_average"``, with a warning).
+Exact path (``method="exact"``, picked by ``"auto"`` where it applies): a kinematic drive
+(:class:`~microslip.model.drive.PrescribedVelocity`) and a periodic or constant normal
+motion: a prescribed penetration (N(t) in closed form), a forced excitation (its stable
+period-1 orbit, :func:`microslip.analysis.periodic.periodic_orbit`, read back on its
+quintic Hermite nodes as the steady sliding of
+:mod:`microslip.analysis.sliding_tables` does), the undamped free vibration of amplitude
+A (the table of :mod:`microslip.analysis.orbit`), or a damped free vibration (it decays
+to N = m g). The normal motion does not depend on the tangential one: it is computed
+once and shared by every drive speed (and by every tangential stiffness or friction
+coefficient of a map).
+
+- Rigid tangential contact: the body slides at v all the time, F_t = μ(|v|) N, so
+  μ_eff = μ(|v|) exactly for every normal motion (identity 6), also a forced response
+  that is not period-1 (its <N> is then m g, identity 1).
+- Compliant contact (TangentialSpring, MindlinSpring; Coulomb or StaticKinetic): the
+  contact point's stick/slip/flight under the known N(t) is a 1-D problem solved exactly
+  over one period (:mod:`microslip.analysis.contact_point`): switching instants by root
+  finding to round-off, Gauss–Legendre quadrature between them, the period map iterated
+  until the tangential state at the period start repeats.
+
+Time average (``method="time_average"``, picked by ``"auto"`` for the rest: force
+drives, a forced response that is not period-1): ``simulate(method="event")`` after a
+transient, μ_eff = ∫F_t dt / ∫N dt over a window, each integral a Gauss–Legendre sum on
+the pieces between the recorded switching instants (exact to the integration tolerance
+where the response is smooth); the error estimate is the standard error of the ratio
+ΣF_b/ΣN_b over ``blocks`` equal sub-windows b (the spread of F_b - μ_eff N_b).
 """
 
 from __future__ import annotations
 
-import itertools
 import math
-import warnings
 from dataclasses import dataclass
 from typing import Any
 
@@ -30,14 +44,14 @@ import numpy as np
 import xarray as xr
 
 from microslip import validation as check
+from microslip.analysis import contact_point as cp
+from microslip.analysis import normal_period
+from microslip.analysis.normal_period import NormalCycle
 from microslip.model.capabilities import require
-from microslip.model.coefficients import MU_STATIC
+from microslip.model.coefficients import MU, MU_STATIC, TANGENTIAL_STIFFNESS
 from microslip.model.composition import Model
-from microslip.model.contact import elastic_stiffness
-from microslip.model.drive import PrescribedVelocity
-from microslip.model.excitation import PrescribedPenetration
+from microslip.model.drive import ConstantForce, HarmonicDrive, PrescribedVelocity, SpringDrive
 from microslip.model.friction import StaticKinetic, Stribeck, kinetic_coefficient
-from microslip.model.normal import normal_force, normal_force_rate
 from microslip.model.tangential import MindlinSpring, TangentialSpring
 
 __all__ = [
@@ -48,41 +62,53 @@ __all__ = [
     "flat_punch_reduction",
 ]
 
-_GAUSS_NODES, _GAUSS_WEIGHTS = np.polynomial.legendre.leggauss(8)
-_PIECES_PER_PERIOD = 64  # a smooth piece longer than T/64 is split for the quadrature
-_MAX_PERIODS = 200
-_RATE_SAMPLES = 4096  # uniform samples of dN/dt per period for max|dN/dt|
-_FALLBACK_PERIODS = 64
+METHODS = ("auto", "exact", "time_average")
+MAX_PERIODS = 1000  # normal periods the period map may take to reach its cycle
+# Tolerance of the exact path (root finding to round-off, 8-point Gauss–Legendre on
+# pieces of at most T/32 and graded towards contact switches): relative, closed-form N;
+# a tabulated orbit adds the error of its interpolation (free: ~1e-13, forced: ~1e-11).
+EXACT_ERROR = {cp.CLOSED_FORM: 1e-12, cp.TABLE: 1e-10}
 
 
 @dataclass(frozen=True)
 class EffectiveFriction:
-    """The effective friction of a kinematically driven body in the steady state.
+    """The effective friction coefficient of a driven body in the steady state.
 
     Attributes
     ----------
     mu_eff : float
-        <F_t>/<N> [-], F_t the friction force the contact transmits along the drive.
+        <F_t>/<N> [-], F_t the friction force the contact transmits, positive along the
+        drive (-Ft sgn(drive) with ``SimulationResult.Ft``, eq. 2.5).
     mu_kinetic : float
-        The reference coefficient μ_k(|v|) [-] (Coulomb: μ).
+        Reference coefficient μ_k [-]: μ_k (Coulomb: μ; StaticKinetic: mu_kinetic), or
+        Stribeck's μ(|v|) at the drive speed.
     ratio : float
-        μ_eff / μ_k [-].
+        μ_eff / μ_k [-]; 1 - ratio is the friction reduction.
     v_tilde : float
-        Dimensionless drive speed ṽ = k_t |v| / (μ_k max|dN/dt|) [-]; nan with a rigid
-        contact or a constant N. Mindlin: k_t at the static (or mean) penetration;
-        max|dN/dt| sampled at the quadrature nodes (>= 512 per period, ~1e-5 relative).
-    mean_friction_force, mean_normal_force : float
-        <F_t> [N] and <N> [N] over a period.
+        Dimensionless drive speed ṽ = |v| / v_c [-], v_c = max over the contact of
+        μ_k Ṅ / k_t, the speed above which a slip never ends (no reduction for ṽ >= 1
+        without a jump of N). Constant k_t: ṽ = k_t |v| / (μ_k max dN/dt) (max|dN/dt| for a
+        time-symmetric N: prescribed penetration, free vibration). Mindlin, elastic:
+        ṽ = λ |v| / (μ_k max dδ/dt). nan for a rigid contact, a constant N, or a time
+        average.
+    mean_friction_force : float
+        <F_t> [N] over the steady cycle (window).
+    mean_normal_force : float
+        <N> [N] over the steady cycle (window).
     stick_fraction : float
-        Fraction of the period [-] the contact point sticks (in contact).
+        Fraction of the time [-] the contact point sticks in contact (0 rigid).
     period : float
-        Period [s] of the normal motion (nan if constant).
+        Period [s] of the normal motion (nan for a constant N); time average: the
+        reference period of the window.
     method : str
-        "exact" (periodic steady state), "closed_form" (rigid or constant N) or
-        "time_average".
+        "exact" or "time_average".
     error : float
-        Estimated relative error [-] of mu_eff: the event tolerance for "exact" and
-        "closed_form" round-off, the spread of block averages for "time_average".
+        Estimated relative error of mu_eff [-]. exact: the tolerance of the root finding
+        and quadrature (``EXACT_ERROR``; 0 for a rigid contact or a constant N, where
+        μ_eff = μ_k holds exactly), plus the drift of the period map if it found no
+        cycle within ``MAX_PERIODS`` periods. time_average: the standard error of the
+        ratio of the block sums (module docstring); 0-ish for a periodic response
+        averaged over whole periods, large for a transient or chaotic one.
     """
 
     mu_eff: float
@@ -98,19 +124,30 @@ class EffectiveFriction:
 
 
 def flat_punch_reduction(v_tilde: Any) -> np.ndarray:
-    """D(ṽ) [-] of the flat punch: μ_eff/μ = 1 - β D(ṽ) for N = N0 (1 + β cos ωt), β <= 1
-    (m2 = 1, prescribed penetration, constant k_t, Coulomb, kinematic drive).
+    """D(ṽ) [-] of the flat punch: μ_eff/μ = 1 - β D(ṽ) (docs/theory/friction_reduction.md).
 
-    θ = ωt; the contact point sticks from θ1 = π + arcsin ṽ (where μ dN/dt reaches k_t v)
-    to the first θ2 > θ1 with cos θ1 + ṽ (θ2 - θ1) = cos θ2 (the spring force catches up
-    with μN); D = [sin θ2 - sin θ1 - (θ2 - θ1) cos θ1 - ṽ (θ2 - θ1)²/2] / (2π). D(0) = 1,
-    D = 0 for ṽ >= 1 (docs/theory/friction_reduction.md).
+    m2 = 1, prescribed penetration N = N0 (1 + β cos ωt) with β <= 1, Coulomb friction,
+    constant k_t, kinematic drive, ṽ = k_t |v| / (μ β N0 ω). With θ = ωt the contact
+    point sticks from θ1 = π + arcsin ṽ to the first θ2 > θ1 with
+    cos θ1 + ṽ (θ2 - θ1) = cos θ2, and
+    D = [sin θ2 - sin θ1 - (θ2 - θ1) cos θ1 - ṽ (θ2 - θ1)²/2] / (2π); D(0) = 1, D = 0 for
+    ṽ >= 1.
+
+    Parameters
+    ----------
+    v_tilde : float or array
+        ṽ >= 0 [-].
+
+    Returns
+    -------
+    ndarray
+        D(ṽ) [-], the shape of ``v_tilde``.
     """
     from scipy.optimize import brentq
 
     values = np.asarray(v_tilde, dtype=float)
     if np.any(~np.isfinite(values)) or np.any(values < 0.0):
-        raise ValueError("v_tilde must be finite and >= 0")
+        raise ValueError(f"v_tilde must be finite and >= 0, got {v_tilde!r}")
     out = np.zeros(values.shape)
     for index, vt in np.ndenumerate(values):
         if vt >= 1.0:
@@ -118,13 +155,11 @@ def flat_punch_reduction(v_tilde: Any) -> np.ndarray:
         theta1 = math.pi + math.asin(vt)
         c1 = math.cos(theta1)
 
-        def gap(theta: float, c1: float = c1, theta1: float = theta1, vt: float = vt) -> float:
+        def gap(theta: float, vt: float = vt, theta1: float = theta1, c1: float = c1) -> float:
             return c1 + vt * (theta - theta1) - math.cos(theta)
 
-        # g is tangent at θ1 and negative just after it (its curvature is cos θ1 < 0):
-        # bracket from the first minimum (sin θ = -ṽ again, θ = 2π - arcsin ṽ).
-        start = 2.0 * math.pi - math.asin(vt)
-        theta2 = brentq(gap, start, theta1 + 2.0 * math.pi, xtol=1e-15, rtol=1e-15)
+        # gap is tangent to 0 at θ1 and falls to its minimum at 2π - arcsin ṽ first
+        theta2 = brentq(gap, 2.0 * math.pi - math.asin(vt), theta1 + 2.0 * math.pi, xtol=1e-15)
         span = theta2 - theta1
         out[index] = (math.sin(theta2) - math.sin(theta1) - span * c1 - 0.5 * vt * span * span) / (
             2.0 * math.pi
@@ -132,332 +167,346 @@ def flat_punch_reduction(v_tilde: Any) -> np.ndarray:
     return out
 
 
-def _kinetic(model: Model) -> float:
-    c = model.pack()
-    return float(kinetic_coefficient(abs(model.drive.velocity), c))
+# -- points ----------------------------------------------------------------------------------
+_FIELDS = (
+    "mu_eff", "mu_kinetic", "ratio", "v_tilde", "mean_friction_force", "mean_normal_force",
+    "stick_fraction", "error",
+)  # fmt: skip
 
 
-def _normal_cycle(model: Model, amplitude: float | None, cache: dict | None = None):
-    """(period [s] or None for a constant N, initial state (y, ẏ) at t = 0); ``cache``
-    (a dict) shares the normal motion between models that differ only tangentially."""
-    if cache is not None:
-        key = (model.replace(tangential=None, friction=None, drive=None), amplitude)
-        if key not in cache:
-            cache[key] = _normal_cycle(model, amplitude)
-        return cache[key]
-    from microslip.analysis.free_vibration import free_period
-    from microslip.analysis.periodic import periodic_orbit
-
-    params = model.params
-    excitation = model.excitation
-    if isinstance(excitation, PrescribedPenetration):
-        if amplitude is not None:
-            raise ValueError("amplitude does not apply with PrescribedPenetration")
-        return excitation.period, None
-    if excitation is not None:
-        if amplitude is not None:
-            raise ValueError("amplitude does not apply to a forced normal motion")
-        # The normal motion does not depend on the tangential parts: the orbit of the
-        # normal model (NotPeriodOneError: the caller falls back to a time average).
-        orbit = periodic_orbit(model.replace(tangential=None, friction=None, drive=None))
-        return orbit.period, (float(orbit.y0_state[0]), float(orbit.y0_state[1]))
-    if amplitude is None:
-        raise ValueError("give amplitude=A [m] for the free normal vibration")
-    amplitude = check.amplitude(params, amplitude)
-    if model.damping is not None or amplitude == 0.0:
-        return None, None  # decays to (or stays at) rest: N = m g
-    return free_period(params, amplitude), (params.static_deflection - amplitude, 0.0)
-
-
-def _tangential_stiffness(model: Model) -> float:
-    """k_t [N/m]; Mindlin's at the static (or mean prescribed) penetration."""
-    if isinstance(model.tangential, TangentialSpring):
-        return model.tangential.stiffness
-    delta = model.params.static_deflection
-    if isinstance(model.excitation, PrescribedPenetration):
-        delta = model.excitation.mean
-    return model.tangential.ratio * float(elastic_stiffness(delta, model.pack()))
-
-
-def _start(normal, velocity: float) -> tuple[float, ...]:
-    """Body state at a period start (a prescribed penetration sets y, ẏ in :func:`_run`)."""
-    y, ydot = (0.0, 0.0) if normal is None else normal
-    return (y, ydot, 0.0, velocity, 0.0, 0.0)
-
-
-def _run(model: Model, state, period: float, rtol: float, t_eval=None):
-    from microslip.simulation import simulate
-
-    if isinstance(model.excitation, PrescribedPenetration):
-        state = (model.excitation.mean + model.excitation.amplitude, 0.0, *state[2:])
-    return simulate(
-        model, duration=period, initial_state=state, method="event", rtol=rtol, t_eval=t_eval
-    )
-
-
-def _steady_period(model: Model, period: float, normal, rtol: float):
-    """The state at the start of a steady period, found by iterating the period map."""
-    velocity = model.drive.velocity
-    c = model.pack()
-    scale = max(model.params.mass * model.params.g * c[MU_STATIC], 1e-300)
-    # Start on the kinetic limit, f = μ_k N(0) sgn v, as if slipping: the first slip
-    # then erases the start, even at drive speeds that would need many periods to load
-    # a relaxed spring.
-    if normal is None:  # prescribed penetration
-        y, ydot = model.excitation.mean + model.excitation.amplitude, 0.0
-    else:
-        y, ydot = normal
-    limit = float(kinetic_coefficient(0.0, c) * normal_force(0.0, y, ydot, c))
-    spring = math.copysign(limit, velocity) if velocity != 0.0 else 0.0
-    stiffness = _tangential_stiffness(model)
-    shift = -spring / stiffness if stiffness > 0 else 0.0
-    state = (*_start(normal, velocity)[:4], shift, spring)
-    for _ in range(_MAX_PERIODS):
-        run = _run(model, state, period, rtol)
-        end = (
-            float(run.y[-1]),
-            float(run.ydot[-1]),
-            0.0,
-            velocity,
-            float(run.u[-1] - run.x[-1]),
-            float(run.spring_force[-1]),
+def _check(model: Model, method: str) -> None:
+    if not isinstance(model, Model):
+        raise ValueError(f"model must be a microslip.Model, got {type(model).__name__}")
+    require(
+        model, "effective_friction",
+        allowed={
+            "tangential": (None, TangentialSpring, MindlinSpring),
+            "friction": (None, StaticKinetic, Stribeck),
+            "drive": (PrescribedVelocity, ConstantForce, HarmonicDrive, SpringDrive),
+        },
+        instead="give the model a drive, e.g. drive=ms.PrescribedVelocity(v)",
+    )  # fmt: skip
+    check.one_of("method", method, METHODS)
+    if method == "exact" and not model.is_kinematic:
+        raise ValueError(
+            f"method='exact' needs drive=ms.PrescribedVelocity(v), got "
+            f"{type(model.drive).__name__}; use method='time_average'"
         )
-        if abs(end[5] - state[5]) <= 1e-9 * scale:
-            return end
-        state = end
-    raise RuntimeError(f"no periodic tangential steady state within {_MAX_PERIODS} periods")
 
 
-def _quadrature_nodes(period: float, switches: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Gauss–Legendre nodes and weights [s] on [0, T], split at the switching instants."""
-    bounds = np.unique(
-        np.concatenate([[0.0], switches[(switches > 0) & (switches < period)], [period]])
-    )
-    nodes, weights = [], []
-    for a, b in itertools.pairwise(bounds):
-        parts = max(1, math.ceil((b - a) * _PIECES_PER_PERIOD / period))
-        edges = np.linspace(a, b, parts + 1)
-        for lo, hi in itertools.pairwise(edges):
-            half = 0.5 * (hi - lo)
-            nodes.append(lo + half * (_GAUSS_NODES + 1.0))
-            weights.append(half * _GAUSS_WEIGHTS)
-    return np.concatenate(nodes), np.concatenate(weights)
+def _speeds(model: Model, velocities: Any) -> np.ndarray:
+    speeds = check.real_array("velocities", velocities)
+    limit = model.params.max_velocity
+    if np.any(speeds == 0.0) or np.any(np.abs(speeds) > limit):
+        bad = speeds[(speeds == 0.0) | (np.abs(speeds) > limit)][0]
+        raise ValueError(
+            f"drive velocity {bad!r} m s-1 must be nonzero with |v| <= 1e6 g T0 = {limit:.6g} "
+            "m s-1 (at v = 0 the contact transmits an undetermined static force)"
+        )
+    return speeds
 
 
-def _max_normal_rate(model: Model, t, y, ydot) -> float:
-    """max|dN/dt| [N/s] from uniform samples, refined by the parabola through the
-    largest sample and its neighbours."""
+def _exact_points(model: Model, cycle: NormalCycle, speeds: np.ndarray) -> dict[str, np.ndarray]:
+    """The exact steady state at each drive speed [m/s] on the shared normal ``cycle``."""
     c = model.pack()
-    rate = np.abs(
-        [float(normal_force_rate(a, b, d, c)) for a, b, d in zip(t, y, ydot, strict=True)]
-    )
-    k = int(np.argmax(rate))
-    if 0 < k < rate.size - 1:
-        left, mid, right = rate[k - 1], rate[k], rate[k + 1]
-        curvature = left - 2.0 * mid + right
-        if curvature < 0.0:
-            return float(mid - 0.125 * (right - left) ** 2 / curvature)
-    return float(rate[k])
+    speeds = np.ascontiguousarray(np.abs(speeds))
+    mu_k = np.array([kinetic_coefficient(s, c) for s in speeds])
+    mean_n = np.full(speeds.size, cycle.mean_normal_force)
+    zeros = np.zeros(speeds.size)
+    if not model.is_compliant or cycle.pieces is None:  # sliding at v throughout (identity 6)
+        return dict(
+            mu_eff=mu_k, mu_kinetic=mu_k, ratio=np.ones(speeds.size),
+            v_tilde=np.full(speeds.size, math.nan), mean_friction_force=mu_k * mean_n,
+            mean_normal_force=mean_n, stick_fraction=zeros, error=zeros,
+        )  # fmt: skip
+    if isinstance(model.tangential, TangentialSpring):
+        kconst, lam = float(c[TANGENTIAL_STIFFNESS]), 0.0
+        critical = c[MU] * cycle.rate_max / kconst
+    else:
+        kconst, lam = 0.0, float(c[TANGENTIAL_STIFFNESS])
+        critical = c[MU] * cycle.ratio_max / lam
+    out = np.zeros((speeds.size, cp.R_COLUMNS))
+    cp.steady_friction(
+        speeds, float(c[MU_STATIC]), float(c[MU]), kconst, lam, cycle.pieces, cycle.source,
+        cycle.period, MAX_PERIODS, out,
+    )  # fmt: skip
+    mean_f = out[:, cp.R_FORCE]
+    mu_eff = mean_f / mean_n
+    v_tilde = speeds / critical if 0.0 < critical < math.inf else np.full(speeds.size, math.nan)
+    return dict(
+        mu_eff=mu_eff, mu_kinetic=mu_k, ratio=mu_eff / mu_k, v_tilde=v_tilde,
+        mean_friction_force=mean_f, mean_normal_force=mean_n,
+        stick_fraction=out[:, cp.R_STICK], error=EXACT_ERROR[cycle.kind] + out[:, cp.R_ERROR],
+    )  # fmt: skip
 
 
-def _mean_normal_force(model: Model) -> float:
-    """<N> [N]: m g for any bounded motion of the body (identity 1); the period average
-    of the law for a prescribed penetration (Gauss–Legendre, 64 x 8 nodes)."""
-    from microslip.simulation import simulate
+def _points(model, speeds, amplitude, method, cache, options):
+    """(fields by name over ``speeds``, methods used, period [s]) for a kinematic model."""
+    from microslip.analysis.periodic import NotPeriodOneError
 
-    if not isinstance(model.excitation, PrescribedPenetration):
-        return model.params.mass * model.params.g
-    period = model.excitation.period
-    nodes, weights = _quadrature_nodes(period, np.empty(0))
-    normal_model = model.replace(drive=None, tangential=None, friction=None)
-    run = simulate(normal_model, force=0.0, duration=period, t_eval=nodes)
-    return float(weights @ run.N) / period
+    if method != "time_average":
+        key = (normal_period.normal_model(model), amplitude)
+        try:
+            if key not in cache:
+                cache[key] = normal_period.normal_cycle(model, amplitude)
+            cycle = cache[key]
+        except NotPeriodOneError as error:
+            if model.is_compliant and method == "exact":
+                raise ValueError(f"method='exact': {error}") from None
+            # rigid: μ_eff = μ_k whatever the normal motion; <N> = m g (identity 1)
+            weight = model.params.mass * model.params.g
+            cycle = None if model.is_compliant else NormalCycle(model.excitation.period, weight)
+        if cycle is not None:
+            return _exact_points(model, cycle, speeds), {"exact"}, cycle.period
+    rows = [
+        _time_average(model.replace(**{"drive.velocity": float(v)}), amplitude, **options)
+        for v in speeds
+    ]
+    fields = {name: np.array([getattr(r, name) for r in rows]) for name in _FIELDS}
+    return fields, {"time_average"}, rows[0].period
 
 
 def effective_friction(
-    model: Model, *, amplitude: float | None = None, rtol: float = 1e-11, _cycles=None
+    model: Model,
+    *,
+    amplitude: float | None = None,
+    method: str = "auto",
+    rtol: float = 1e-11,
+    transient: float | None = None,
+    window: float | None = None,
+    blocks: int = 8,
 ) -> EffectiveFriction:
-    """μ_eff = <F_t>/<N> [-] of a body driven at ``model.drive.velocity`` in the steady state.
+    """μ_eff = <F_t>/<N> [-] of the driven body in the steady state.
+
+    F_t is the friction force the contact transmits, positive along the drive: -Ft
+    sgn(drive) with ``SimulationResult.Ft`` (the force on the body, eq. 2.5); sgn(drive)
+    is the sign of v (PrescribedVelocity), F (ConstantForce), F0 (HarmonicDrive) or v_d
+    (SpringDrive), + where it is 0.
 
     Parameters
     ----------
     model : Model
-        With ``drive=PrescribedVelocity(v)``; any normal part; a rigid or compliant
-        tangential contact; Coulomb or StaticKinetic friction (Stribeck: rigid only).
+        Any normal part; tangential None/Rigid, TangentialSpring or MindlinSpring;
+        friction Coulomb, StaticKinetic or Stribeck (rigid only); a drive.
     amplitude : float, optional
-        Free normal vibration only: A = y0 - y_min [m] of the undamped free orbit.
+        Free normal vibration only (no excitation): A = y0 - y_min [m] at t = 0.
+    method : {"auto", "exact", "time_average"}
+        "exact": kinematic drive and a periodic or constant normal motion (module
+        docstring); "time_average": a simulation; "auto": "exact" where it applies.
     rtol : float
-        Relative tolerance of the event method (default 1e-11).
+        Relative tolerance of the event method (time average only).
+    transient, window : float, optional
+        Time average: simulated time [s] discarded first, then averaged; default 64
+        reference periods each (the normal period: excitation, free vibration, or 1/f0;
+        the harmonic drive's if longer).
+    blocks : int
+        Time average: sub-windows for the error estimate (>= 2).
 
     Returns
     -------
     EffectiveFriction
     """
-    if not isinstance(model, Model):
-        raise ValueError(f"model must be a microslip.Model, got {type(model).__name__}")
-    require(
-        model,
-        "effective_friction",
-        allowed={
-            "tangential": (None, TangentialSpring, MindlinSpring),
-            "friction": (None, StaticKinetic, Stribeck),
-            "drive": (PrescribedVelocity,),
-        },
-        instead="drive the body with ms.PrescribedVelocity(v) (or use ms.simulate)",
-    )
-    rtol = check.tolerance("rtol", rtol, check.RTOL_RANGE)
-    mu_k = _kinetic(model)
-    weight = model.params.mass * model.params.g
-    from microslip.analysis.periodic import NotPeriodOneError
-
-    if not model.is_compliant:  # identity 6: the body never sticks, F_t = μ_k(|v|) N
-        mean_n = _mean_normal_force(model)
-        return EffectiveFriction(
-            mu_k, mu_k, 1.0, math.nan, mu_k * mean_n, mean_n, 0.0, math.nan, "closed_form", 0.0
-        )
-    try:
-        period, normal = _normal_cycle(model, amplitude, _cycles)
-    except NotPeriodOneError as error:
-        return _time_average(model, mu_k, rtol, str(error))
-    if period is None:  # constant N = m g: steady slip at the kinetic limit
-        return EffectiveFriction(
-            mu_k, mu_k, 1.0, math.nan, mu_k * weight, weight, 0.0, math.nan, "closed_form", 0.0
-        )
-    start = _steady_period(model, period, normal, rtol)
-    first = _run(model, start, period, rtol)
-    nodes, weights = _quadrature_nodes(period, first.event_t)
-    samples = np.linspace(0.0, period, _RATE_SAMPLES + 1)
-    run = _run(model, start, period, rtol, t_eval=np.sort(np.concatenate([nodes, samples])))
-    is_node = np.isin(run.t, nodes)
-    mean_n = float(weights @ run.N[is_node]) / period
-    sign = math.copysign(1.0, model.drive.velocity) if model.drive.velocity != 0 else 1.0
-    mean_f = float(weights @ (-sign * run.Ft[is_node])) / period
-    stuck = (run.direction == 0) & (run.N > 0)
-    stick = float(weights @ stuck[is_node]) / period
-    uniform = ~is_node
-    rate = _max_normal_rate(model, run.t[uniform], run.y[uniform], run.ydot[uniform])
-    v_tilde = (
-        _tangential_stiffness(model) * abs(model.drive.velocity) / (mu_k * rate)
-        if rate > 0 and mu_k > 0
-        else math.nan
-    )
-    mu_eff = mean_f / mean_n if mean_n > 0 else math.nan
+    _check(model, method)
+    if method == "time_average" or not model.is_kinematic:
+        return _time_average(model, amplitude, rtol=rtol, transient=transient, window=window,
+                             blocks=blocks)  # fmt: skip
+    options = dict(rtol=rtol, transient=transient, window=window, blocks=blocks)
+    speeds = _speeds(model, [model.drive.velocity])
+    fields, methods, period = _points(model, speeds, amplitude, method, {}, options)
     return EffectiveFriction(
-        mu_eff,
-        mu_k,
-        mu_eff / mu_k if mu_k > 0 else math.nan,
-        v_tilde,
-        mean_f,
-        mean_n,
-        stick,
-        period,
-        "exact",
-        10.0 * rtol,
-    )
+        **{name: float(values[0]) for name, values in fields.items()},
+        period=float(period), method=methods.pop(),
+    )  # fmt: skip
 
 
-def _time_average(model: Model, mu_k: float, rtol: float, reason: str) -> EffectiveFriction:
-    """μ_eff from a long run when the forced normal motion is not period-1."""
+# -- time average ----------------------------------------------------------------------------
+def _drive_sign(model: Model) -> float:
+    """+1 or -1: the sign of v, F, F0 or v_d of the drive (+1 where it is 0)."""
+    field = {ConstantForce: "force", HarmonicDrive: "mean"}.get(type(model.drive), "velocity")
+    return -1.0 if getattr(model.drive, field) < 0.0 else 1.0
+
+
+def _reference_period(model: Model, amplitude: float | None) -> float:
+    from microslip.analysis.free_vibration import free_period
+
+    params = model.params
+    if model.excitation is not None:
+        period = model.excitation.period
+    elif model.damping is None and amplitude:
+        period = free_period(params, amplitude)
+    else:
+        period = params.natural_period
+    if isinstance(model.drive, HarmonicDrive):
+        period = max(period, 1.0 / model.drive.frequency)
+    return period
+
+
+def _time_average(
+    model: Model,
+    amplitude: float | None,
+    *,
+    rtol: float,
+    transient: float | None,
+    window: float | None,
+    blocks: int,
+) -> EffectiveFriction:
+    """μ_eff from ``simulate(method="event")``: module docstring."""
     from microslip.simulation import simulate
 
-    period = model.excitation.period
-    warnings.warn(f"{reason}; effective friction from a time average", RuntimeWarning, stacklevel=3)
-    start, blocks = _FALLBACK_PERIODS * period, 8
-    t = np.linspace(start, start + _FALLBACK_PERIODS * period, 64 * _FALLBACK_PERIODS + 1)
-    run = simulate(model, duration=float(t[-1]), method="event", rtol=rtol, t_eval=t)
-    sign = math.copysign(1.0, model.drive.velocity) if model.drive.velocity != 0 else 1.0
-    f, n = -sign * run.Ft, run.N
-    per_block = np.array_split(np.arange(t.size - 1), blocks)
-    ratios = [
-        np.trapezoid(f[b[0] : b[-1] + 2], t[b[0] : b[-1] + 2])
-        / np.trapezoid(n[b[0] : b[-1] + 2], t[b[0] : b[-1] + 2])
-        for b in per_block
-    ]
-    mu_eff = float(np.trapezoid(f, t) / np.trapezoid(n, t))
-    error = float(np.std(ratios) / math.sqrt(blocks) / abs(mu_eff)) if mu_eff else math.nan
-    return EffectiveFriction(
-        mu_eff,
-        mu_k,
-        mu_eff / mu_k,
-        math.nan,
-        float(np.mean(f)),
-        float(np.mean(n)),
-        math.nan,
-        period,
-        "time_average",
-        error,
+    blocks = check.positive_int("blocks", blocks)
+    if blocks < 2:
+        raise ValueError(f"blocks must be >= 2 (the error estimate), got {blocks!r}")
+    kwargs: dict[str, Any] = {}
+    if model.excitation is None:
+        if amplitude is None:
+            raise ValueError("give amplitude=A [m] of the free normal vibration")
+        kwargs["amplitude"] = check.amplitude(model.params, amplitude)
+    elif amplitude is not None:
+        raise ValueError(
+            f"amplitude={amplitude!r} applies to the free vibration only; the excitation "
+            f"{type(model.excitation).__name__} sets the normal motion"
+        )
+    period = _reference_period(model, amplitude)
+    transient = (
+        64.0 * period if transient is None else check.real("transient", transient, minimum=0.0)
     )
+    window = (
+        64.0 * period if window is None else check.real("window", window, minimum=0.0, strict=True)
+    )
+    end = transient + window
+    first = simulate(model, duration=end, method="event", rtol=rtol, **kwargs)
+    # Gauss–Legendre pieces: the block edges, 16 pieces per period, every switching instant
+    pieces_per_block = max(1, math.ceil(16.0 * window / (blocks * period)))
+    edges = np.linspace(transient, end, blocks * pieces_per_block + 1)
+    events = first.event_t[(first.event_t > transient) & (first.event_t < end)]
+    cuts = np.unique(np.concatenate([edges, events]))
+    block = np.minimum(np.searchsorted(edges[::pieces_per_block], cuts[:-1], side="right") - 1,
+                       blocks - 1)  # fmt: skip
+    half = 0.5 * np.diff(cuts)
+    nodes = (0.5 * (cuts[:-1] + cuts[1:]))[:, None] + half[:, None] * cp.GAUSS_NODES[None, :]
+    weights = half[:, None] * cp.GAUSS_WEIGHTS[None, :]
+    run = simulate(model, duration=end, method="event", rtol=rtol, t_eval=nodes.ravel(), **kwargs)
+    shape = nodes.shape
+    force = (-_drive_sign(model) * run.Ft).reshape(shape)
+    normal = run.N.reshape(shape)
+    stuck = ((run.direction == 0) & (run.N > 0)).reshape(shape)
+    f_block = np.bincount(block, (weights * force).sum(axis=1), minlength=blocks)
+    n_block = np.bincount(block, (weights * normal).sum(axis=1), minlength=blocks)
+    mean_f, mean_n = f_block.sum() / window, n_block.sum() / window
+    mu_eff = mean_f / mean_n
+    c = model.pack()
+    speed = abs(model.drive.velocity) if model.is_kinematic else math.inf
+    mu_k = float(kinetic_coefficient(speed, c))
+    # standard error of the ratio estimator ΣF/ΣN over the blocks (a block may lack contact)
+    spread = np.std(f_block - mu_eff * n_block, ddof=1) / (math.sqrt(blocks) * n_block.mean())
+    return EffectiveFriction(
+        mu_eff=float(mu_eff), mu_kinetic=mu_k, ratio=float(mu_eff / mu_k), v_tilde=math.nan,
+        mean_friction_force=float(mean_f), mean_normal_force=float(mean_n),
+        stick_fraction=float((weights * stuck).sum() / window) if model.is_compliant else 0.0,
+        period=float(period), method="time_average",
+        error=float(spread / abs(mu_eff)) if mu_eff else math.inf,
+    )  # fmt: skip
 
 
+# -- curves and maps -------------------------------------------------------------------------
 _VARIABLES = {
     "mu_eff": ("1", "effective friction coefficient <F_t>/<N>"),
-    "ratio": ("1", "mu_eff / mu_kinetic"),
-    "v_tilde": ("1", "dimensionless drive speed k_t v / (mu max|dN/dt|)"),
-    "stick_fraction": ("1", "fraction of the period the contact point sticks"),
+    "mu_kinetic": ("1", "reference kinetic friction coefficient mu_k"),
+    "ratio": ("1", "mu_eff / mu_k"),
+    "v_tilde": ("1", "dimensionless drive speed v / v_c, v_c = max mu_k (dN/dt) / k_t"),
+    "stick_fraction": ("1", "fraction of the time the contact point sticks"),
+    "mean_friction_force": ("N", "mean friction force <F_t> along the drive"),
+    "mean_normal_force": ("N", "mean normal force <N>"),
+    "error": ("1", "estimated relative error of mu_eff"),
 }
+_VELOCITY = {"units": "m s-1", "long_name": "drive velocity v"}
+
+
+def _kinematic(model: Model, method: str) -> None:
+    _check(model, method)
+    if not model.is_kinematic:
+        raise ValueError(
+            f"effective_friction_curve needs drive=ms.PrescribedVelocity(v) (its velocity is "
+            f"the swept axis), got drive={type(model.drive).__name__}"
+        )
+
+
+def _dataset(fields, dims, coords, model, methods, period) -> xr.Dataset:
+    data = {
+        name: (dims, np.asarray(fields[name]), {"units": unit, "long_name": text})
+        for name, (unit, text) in _VARIABLES.items()
+    }
+    data["period"] = (
+        dims[:-1], np.asarray(period), {"units": "s", "long_name": "period of the normal motion"},
+    )  # fmt: skip
+    attrs = {**model.to_attrs(), "method": ",".join(sorted(methods))}
+    return xr.Dataset(data, coords=coords, attrs=attrs)
 
 
 def effective_friction_curve(
-    model: Model, velocities: Any, *, amplitude: float | None = None
+    model: Model, velocities: Any, *, amplitude: float | None = None, method: str = "auto"
 ) -> xr.Dataset:
-    """μ_eff over drive speeds v [m/s] (dim "velocity"); ``model`` needs a
-    PrescribedVelocity drive, whose velocity each point replaces."""
-    velocities = check.real_array("velocities", velocities)
-    if velocities.ndim != 1 or velocities.size == 0:
-        raise ValueError("velocities must be a non-empty 1-D array [m/s]")
-    if not isinstance(model.drive, PrescribedVelocity):
-        raise ValueError("effective_friction_curve needs drive=ms.PrescribedVelocity(v)")
-    cycles: dict = {}  # one normal motion shared by every speed
-    points = [
-        effective_friction(
-            model.replace(**{"drive.velocity": float(v)}), amplitude=amplitude, _cycles=cycles
-        )
-        for v in velocities
-    ]
-    data = {
-        name: (
-            "velocity",
-            np.array([getattr(p, name) for p in points]),
-            {"units": unit, "long_name": text},
-        )
-        for name, (unit, text) in _VARIABLES.items()
-    }
-    ds = xr.Dataset(
-        data,
-        coords={
-            "velocity": (
-                "velocity",
-                velocities,
-                {"units": "m s-1", "long_name": "drive velocity v"},
-            )
-        },
-        attrs={
-            **model.to_attrs(),
-            "mu_kinetic": points[0].mu_kinetic,
-            "method": ",".join(sorted({p.method for p in points})),
-        },
-    )
-    return ds
+    """μ_eff over drive speeds (dim "velocity" [m s-1]); the normal motion is computed once.
+
+    ``model`` needs ``drive=PrescribedVelocity`` (each speed replaces its velocity);
+    ``velocities`` [m/s] nonzero. Variables (all over "velocity"): mu_eff, mu_kinetic,
+    ratio, v_tilde, stick_fraction, error [1], mean_friction_force, mean_normal_force [N]
+    (:class:`EffectiveFriction`); ``period`` [s] a scalar. Attributes: the model's
+    (``Model.to_attrs``) and ``method`` ("exact" or "time_average").
+    """
+    _kinematic(model, method)
+    speeds = _speeds(model, velocities)
+    fields, methods, period = _points(model, speeds, amplitude, method, {}, _DEFAULTS)
+    coords = {"velocity": ("velocity", speeds, _VELOCITY)}
+    return _dataset(fields, ("velocity",), coords, model, methods, period)
+
+
+_DEFAULTS = dict(rtol=1e-11, transient=None, window=None, blocks=8)
 
 
 def effective_friction_map(
-    model: Model, velocities: Any, name: str, values: Any, *, amplitude: float | None = None
+    model: Model,
+    velocities: Any,
+    name: str,
+    values: Any,
+    *,
+    amplitude: float | None = None,
+    method: str = "auto",
 ) -> xr.Dataset:
-    """μ_eff over (``name``, "velocity"): ``name`` a dotted model field (e.g.
-    "excitation.amplitude", "tangential.stiffness") or "amplitude" (the free vibration's
-    A [m]), ``values`` in its SI unit."""
+    """μ_eff over (``name``, "velocity"): a curve per value of a second axis.
+
+    ``name`` is a dotted model field ("excitation.amplitude", "tangential.stiffness",
+    "friction.mu_static", "damping.ratio", "mu", ...) or "amplitude", the free
+    vibration's A [m]; ``values`` in its SI unit. Each value's normal motion is computed
+    once (and shared between values that change only the tangential side). Variables as
+    :func:`effective_friction_curve`, dims (``name``, "velocity"); ``period`` over
+    ``name``.
+    """
+    _kinematic(model, method)
+    speeds = _speeds(model, velocities)
+    if not isinstance(name, str):
+        raise ValueError(f"name must be a model field name or 'amplitude', got {name!r}")
+    if name == "amplitude":
+        unit, text = "m", "free normal vibration amplitude A = y0 - y_min"
+    else:
+        if model.canonical_name(name) == "drive.velocity":
+            raise ValueError("drive.velocity is the velocity axis; choose another field")
+        unit, text = model.unit(name), name
     values = check.real_array(name, values)
-    if values.ndim != 1 or values.size == 0:
-        raise ValueError(f"{name} values must be a non-empty 1-D array")
-    curves = []
+    cache: dict = {}
+    rows, methods, periods = [], set(), []
     for value in values:
         if name == "amplitude":
-            curves.append(effective_friction_curve(model, velocities, amplitude=float(value)))
+            point, amp = model, float(value)
         else:
-            point = model.replace(**{name: float(value)})
-            curves.append(effective_friction_curve(point, velocities, amplitude=amplitude))
-    unit = "m" if name == "amplitude" else model.unit(name)
-    ds = xr.concat(curves, dim=name, combine_attrs="override")
-    ds = ds.assign_coords({name: (name, values, {"units": unit})})
-    ds.attrs.update(model.to_attrs())
-    return ds
+            point, amp = model.replace(**{name: float(value)}), amplitude
+        fields, used, period = _points(point, speeds, amp, method, cache, _DEFAULTS)
+        rows.append(fields)
+        methods |= used
+        periods.append(period)
+    fields = {key: np.stack([r[key] for r in rows]) for key in _VARIABLES}
+    coords = {
+        name: (name, values, {"units": unit, "long_name": text}),
+        "velocity": ("velocity", speeds, _VELOCITY),
+    }
+    return _dataset(fields, (name, "velocity"), coords, model, methods, np.array(periods))

@@ -1,0 +1,463 @@
+"""The compliant contact point under a known periodic normal force: the exact steady
+state over one normal period (docs/theory/friction_reduction.md).
+
+The body moves at a prescribed speed v > 0 (the sign of v only mirrors f). Given N(t),
+Ṅ(t) and the tangential stiffness k_t(t) over one period T, the spring force f >= 0 of
+the massless contact point obeys
+
+    stick   ḟ = k_t v   until f reaches μ_s N: f drops to μ_k N, and the point slides if
+                        k_t v > μ_k Ṅ, else sticks again;
+    slip    f = μ_k N   while k_t v > μ_k Ṅ; it sticks where μ_k Ṅ rises through k_t v;
+    flight  f = 0       (N = 0); at touchdown the point sticks with f = 0, or slides at
+                        once if the limit μ_s N cannot keep ahead of the spring.
+
+A slip or a flight erases the point's memory, so the period map reaches its fixed point
+(or a cycle of a few periods, with μ_s > μ_k) right after the first of them.
+
+:func:`build_pieces` cuts the period into pieces on which N is smooth: the nodes of the
+normal orbit's table (or a uniform grid for a closed-form N), split at every contact
+switch and graded geometrically towards it; it stores per piece the Gauss–Legendre
+integrals of N and of the stiffness, and the end values. :func:`steady_friction` walks
+the pieces for each drive speed: the switching instants are roots of smooth functions
+(Brent's method, to round-off), the averages are the stored integrals plus
+Gauss–Legendre sums on the partial pieces. The normal motion is shared by all speeds.
+
+``src`` = (kind, t, y, ẏ, ÿ+, ÿ-, c): ``CLOSED_FORM`` (a prescribed penetration, N(t)
+from the coefficient vector c; the tables are unused) or ``TABLE`` (quintic Hermite
+nodes of a periodic orbit, :func:`microslip.analysis.periodic.orbit_state`). The
+stiffness evaluated is the elastic contact stiffness K(δ) = m2 S c_n δ^(m2-1); the walk
+uses ``law`` = (v, μ_s, μ_k, k, λ) with k_t = k (TangentialSpring, k > 0) or λ K(δ)
+(MindlinSpring, k = 0).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit, prange
+
+from microslip import _jit_cache  # noqa: F401  (registers the cache before any @njit)
+from microslip.analysis.periodic import orbit_state
+from microslip.model.contact import elastic_stiffness
+from microslip.model.normal import gap, normal_force, normal_force_rate
+
+__all__ = [
+    "CLOSED_FORM", "GAUSS_NODES", "GAUSS_WEIGHTS", "TABLE", "build_pieces", "steady_friction",
+]  # fmt: skip
+
+CLOSED_FORM = 0.0
+TABLE = 1.0
+
+# Columns of a piece: its ends [s], contact flag, ∫N [N s], ∫K [N s/m], ∫(b - s) K(s) ds
+# [N s²/m], and (N [N], Ṅ [N/s], K [N/m]) at both ends (one-sided at a contact switch).
+A, B, CONTACT, INT_N, INT_K, INT_K2, N_A, RATE_A, K_A, N_B, RATE_B, K_B = range(12)
+N_COLUMNS = 12
+
+# Columns of a speed's result: <f> [N], stick fraction [-], length of the steady cycle in
+# normal periods (0: none found within max_periods), relative drift of <f> if none.
+R_FORCE, R_STICK, R_PERIODS, R_ERROR = range(4)
+R_COLUMNS = 4
+
+FLIGHT, STICK, SLIP = 0.0, 1.0, 2.0
+MARGIN, MARGIN_RATE, SLIP_RATE = 0, 1, 2  # μ_s N - f, its rate, k_t v - μ_k Ṅ
+
+GAUSS_NODES, GAUSS_WEIGHTS = np.polynomial.legendre.leggauss(8)
+_GRADING = 12  # a piece next to a contact switch is split at h/2, h/4, ..., h/2^12
+_NUDGE = 1e-9  # one-sided values at a switch: this fraction of the piece inside it
+_TOL = 1e-13  # thresholds of the switching functions, relative to their scales
+CLOSED_FORM_PIECES = 32  # uniform pieces per period of a closed-form N(t)
+
+
+@njit(cache=True)
+def normal_at(t, src):
+    """(N [N], Ṅ [N/s], K [N/m]) at time t [s]; all 0 out of contact."""
+    kind, tn, yn, vn, a0, a1, c = src
+    y, yd = 0.0, 0.0
+    if kind == TABLE:
+        y, yd = orbit_state(t, tn, yn, vn, a0, a1)
+    n = normal_force(t, y, yd, c)
+    if n <= 0.0:
+        return 0.0, 0.0, 0.0
+    return n, normal_force_rate(t, y, yd, c), elastic_stiffness(gap(t, y, yd, c)[0], c)
+
+
+@njit(cache=True)
+def _integrals(lo, hi, src):
+    """(∫N, ∫K, ∫(hi - s) K(s) ds) over [lo, hi] inside one piece (Gauss–Legendre)."""
+    half = 0.5 * (hi - lo)
+    i_n = i_k = i_k2 = 0.0
+    for j in range(GAUSS_NODES.shape[0]):
+        s = 0.5 * (hi + lo) + half * GAUSS_NODES[j]
+        n, _rate, k = normal_at(s, src)
+        w = half * GAUSS_WEIGHTS[j]
+        i_n += w * n
+        i_k += w * k
+        i_k2 += w * (hi - s) * k
+    return i_n, i_k, i_k2
+
+
+@njit(cache=True, inline="always")
+def _contact(t, src):
+    return normal_at(t, src)[0] > 0.0
+
+
+@njit(cache=True)
+def _contact_cuts(base, src):
+    """The base boundaries with every contact switch inside them (bisected to round-off,
+    found between the Gauss nodes), and the contact state of each interval."""
+    cuts = [base[0]]
+    samples = GAUSS_NODES.shape[0]
+    for i in range(base.shape[0] - 1):
+        a, b = base[i], base[i + 1]
+        if b <= a:
+            continue
+        lo = a + _NUDGE * (b - a)
+        state = _contact(lo, src)
+        for j in range(samples + 1):
+            s = a + 0.5 * (b - a) * (GAUSS_NODES[j] + 1.0) if j < samples else b - _NUDGE * (b - a)
+            if _contact(s, src) != state:
+                hi = s
+                for _ in range(200):
+                    mid = 0.5 * (lo + hi)
+                    if mid <= lo or mid >= hi:
+                        break
+                    if _contact(mid, src) == state:
+                        lo = mid
+                    else:
+                        hi = mid
+                if hi > cuts[-1]:
+                    cuts.append(hi)
+                state = not state
+            lo = s
+        if b > cuts[-1]:
+            cuts.append(b)
+    states = np.empty(len(cuts) - 1)
+    for i in range(states.shape[0]):
+        states[i] = 1.0 if _contact(0.5 * (cuts[i] + cuts[i + 1]), src) else 0.0
+    return cuts, states
+
+
+@njit(cache=True)
+def build_pieces(base, src):
+    """Pieces of one period [base[0], base[-1]] on which N is smooth (rows ``N_COLUMNS``).
+
+    ``base``: the boundaries of the source's own smooth intervals (table nodes, or a
+    uniform grid for a closed form). Returns (pieces, max Ṅ [N/s], max Ṅ/K [m/s]), the
+    maxima over the contact (-inf where N never rises).
+    """
+    cuts, states = _contact_cuts(base, src)
+    n_cut = states.shape[0]
+    starts, ends, left_switch, right_switch = [0.0], [0.0], [False], [False]
+    for i in range(n_cut):
+        a, b = cuts[i], cuts[i + 1]
+        left = states[i] != states[i - 1]  # states[-1]: the period wraps around
+        right = states[i] != states[(i + 1) % n_cut]
+        points = [a]
+        if states[i] != 0.0:  # graded towards the switches at a and/or b
+            mid = 0.5 * (a + b) if (left and right) else (b if left else a)
+            for j in range(_GRADING, 0, -1):
+                if left:
+                    points.append(a + (mid - a) * 0.5**j)
+            if left and right:
+                points.append(mid)
+            for j in range(1, _GRADING + 1):
+                if right:
+                    points.append(b - (b - mid) * 0.5**j)
+        points.append(b)
+        for j in range(len(points) - 1):
+            starts.append(points[j])
+            ends.append(points[j + 1])
+            left_switch.append(left and j == 0)
+            right_switch.append(right and j == len(points) - 2)
+    n = len(starts) - 1
+    pieces = np.zeros((n, N_COLUMNS))
+    best = np.full(2, -np.inf)  # max Ṅ, max Ṅ/K
+    where = np.zeros(2)
+    for i in range(n):
+        a, b = starts[i + 1], ends[i + 1]
+        pieces[i, A], pieces[i, B] = a, b
+        if not _contact(0.5 * (a + b), src):
+            continue
+        pieces[i, CONTACT] = 1.0
+        pieces[i, INT_N], pieces[i, INT_K], pieces[i, INT_K2] = _integrals(a, b, src)
+        ta = a + _NUDGE * (b - a) if left_switch[i + 1] else a
+        tb = b - _NUDGE * (b - a) if right_switch[i + 1] else b
+        pieces[i, N_A], pieces[i, RATE_A], pieces[i, K_A] = normal_at(ta, src)
+        pieces[i, N_B], pieces[i, RATE_B], pieces[i, K_B] = normal_at(tb, src)
+        for j in range(GAUSS_NODES.shape[0] + 2):
+            s = ta if j == 0 else (tb if j == 1 else a + 0.5 * (b - a) * (GAUSS_NODES[j - 2] + 1))
+            for which in range(2):
+                value = _rate(s, which == 1, src)
+                if value > best[which]:
+                    best[which] = value
+                    where[which] = s
+    for which in range(2):
+        if best[which] > -np.inf:
+            best[which] = _refine(where[which], which == 1, pieces, best[which], src)
+    return pieces, best[0], best[1]
+
+
+@njit(cache=True, inline="always")
+def _rate(t, ratio, src):
+    """Ṅ [N/s], or Ṅ/K [m/s] (``ratio``), at t; -inf out of contact."""
+    n, rate, k = normal_at(t, src)
+    if n <= 0.0 or (ratio and k <= 0.0):
+        return -np.inf
+    return rate / k if ratio else rate
+
+
+@njit(cache=True)
+def _refine(t, ratio, pieces, value, src):
+    """Golden-section refinement of a sampled maximum of :func:`_rate` near t."""
+    i = min(max(np.searchsorted(pieces[:, A], t, side="right") - 1, 0), pieces.shape[0] - 1)
+    h = pieces[i, B] - pieces[i, A]
+    lo = max(pieces[i, A] + _NUDGE * h, t - h / 8.0)
+    hi = min(pieces[i, B] - _NUDGE * h, t + h / 8.0)
+    g = 0.5 * (math.sqrt(5.0) - 1.0)
+    x1, x2 = hi - g * (hi - lo), lo + g * (hi - lo)
+    f1, f2 = _rate(x1, ratio, src), _rate(x2, ratio, src)
+    for _ in range(80):
+        if f1 > f2:
+            hi, x2, f2 = x2, x1, f1
+            x1 = hi - g * (hi - lo)
+            f1 = _rate(x1, ratio, src)
+        else:
+            lo, x1, f1 = x1, x2, f2
+            x2 = lo + g * (hi - lo)
+            f2 = _rate(x2, ratio, src)
+    return max(value, f1, f2)
+
+
+@njit(cache=True, inline="always")
+def _stiffness(k_elastic, law):
+    """k_t [N/m] in contact: the spring's constant k, or Mindlin's λ K(δ)."""
+    return law[3] if law[3] > 0.0 else law[4] * k_elastic
+
+
+@njit(cache=True, inline="always")
+def _switching(which, x, t0, f0, law, src):
+    """At time x: the stick margin μ_s N - f (f = f0 + v ∫_t0^x k_t), its rate, or the
+    slip function k_t v - μ_k Ṅ."""
+    v, mu_s, mu_k, kconst, lam = law
+    n, rate, k_el = normal_at(x, src)
+    if which == MARGIN:
+        grown = kconst * (x - t0) if kconst > 0.0 else lam * _integrals(t0, x, src)[1]
+        return mu_s * n - (f0 + v * grown)
+    k = _stiffness(k_el, law) if n > 0.0 else 0.0
+    if which == MARGIN_RATE:
+        return mu_s * rate - k * v
+    return k * v - mu_k * rate
+
+
+@njit(cache=True)
+def _root(which, lo, hi, f_lo, f_hi, t0, f0, law, src, xtol):
+    """Brent's method: a root of :func:`_switching` in [lo, hi] (f_lo, f_hi of opposite
+    signs: the values at the ends, or a stand-in of the right sign)."""
+    a, b, fa, fb = lo, hi, f_lo, f_hi
+    c, fc = a, fa
+    d = e = b - a
+    for _ in range(200):
+        if fb * fc > 0.0:
+            c, fc = a, fa
+            d = e = b - a
+        if abs(fc) < abs(fb):
+            a, b, c = b, c, b
+            fa, fb, fc = fb, fc, fb
+        tol = 4.4e-16 * abs(b) + 0.5 * xtol
+        m = 0.5 * (c - b)
+        if abs(m) <= tol or fb == 0.0:
+            return b
+        if abs(e) >= tol and abs(fa) > abs(fb):
+            s = fb / fa
+            if a == c:
+                p, q = 2.0 * m * s, 1.0 - s
+            else:
+                q, r = fa / fc, fb / fc
+                p = s * (2.0 * m * q * (q - r) - (b - a) * (r - 1.0))
+                q = (q - 1.0) * (r - 1.0) * (s - 1.0)
+            if p > 0.0:
+                q = -q
+            p = abs(p)
+            if 2.0 * p < min(3.0 * m * q - abs(tol * q), abs(e * q)):
+                e, d = d, p / q
+            else:
+                d = e = m
+        else:
+            d = e = m
+        a, fa = b, fb
+        b += d if abs(d) > tol else (tol if m > 0.0 else -tol)
+        fb = _switching(which, b, t0, f0, law, src)
+    return b
+
+
+@njit(cache=True)
+def _touchdown(p, pieces, law, tol_f):
+    """(phase, f) at the start of contact piece p after a flight: stuck with a relaxed
+    spring, unless the limit μ_s N cannot keep ahead of the spring (sliding then)."""
+    v, mu_s, mu_k = law[0], law[1], law[2]
+    if (
+        mu_s * pieces[p, N_A] > tol_f
+        or mu_s * pieces[p, RATE_A] >= _stiffness(pieces[p, K_A], law) * v
+    ):
+        return STICK, 0.0
+    return SLIP, mu_k * pieces[p, N_A]
+
+
+@njit(cache=True)
+def _period(phase, f, law, pieces, src, tol_f, tol_s, xtol):
+    """One period from (phase, f) at its start: (phase and f at its end, ∫f dt [N s],
+    stick time [s], ok, the smallest stick margin μ_s N - f [N] if the point stuck all
+    period long, else -inf)."""
+    v, mu_s, mu_k, kconst, lam = law
+    total = stick = 0.0
+    low = np.inf if phase == STICK else -np.inf  # stays finite only for a whole stick
+    p, t = 0, pieces[0, A]
+    if pieces[0, CONTACT] != 0.0 and phase == FLIGHT:
+        phase, f = _touchdown(0, pieces, law, tol_f)
+    guard = 4 * pieces.shape[0] + 1000
+    while p < pieces.shape[0]:
+        guard -= 1
+        if guard < 0:
+            return phase, f, total, stick, False, -np.inf
+        a, b = pieces[p, A], pieces[p, B]
+        if pieces[p, CONTACT] == 0.0:
+            low = -np.inf
+            phase, f, t = FLIGHT, 0.0, b
+            p += 1
+            if p < pieces.shape[0] and pieces[p, CONTACT] != 0.0:
+                phase, f = _touchdown(p, pieces, law, tol_f)
+            continue
+        root = -1.0
+        if phase == STICK:
+            if kconst > 0.0:
+                f_b = f + v * kconst * (b - t)
+            else:
+                f_b = f + v * lam * (pieces[p, INT_K] if t == a else _integrals(t, b, src)[1])
+            m_b = mu_s * pieces[p, N_B] - f_b
+            low = min(low, m_b)
+            if m_b < -tol_f:
+                root = _root(MARGIN, t, b, tol_f, m_b, t, f, law, src, xtol)
+            else:  # the margin may dip below 0 inside the piece: look at its minimum
+                if t == a:
+                    d_t = mu_s * pieces[p, RATE_A] - _stiffness(pieces[p, K_A], law) * v
+                else:
+                    d_t = _switching(MARGIN_RATE, t, t, f, law, src)
+                d_b = mu_s * pieces[p, RATE_B] - _stiffness(pieces[p, K_B], law) * v
+                if d_t < 0.0 < d_b:
+                    t_min = _root(MARGIN_RATE, t, b, d_t, d_b, t, f, law, src, xtol)
+                    m_min = _switching(MARGIN, t_min, t, f, law, src)
+                    low = min(low, m_min)
+                    if m_min < -tol_f:
+                        root = _root(MARGIN, t, t_min, tol_f, m_min, t, f, law, src, xtol)
+            end = root if root > t else b
+            span = end - t
+            if kconst > 0.0:
+                total += f * span + 0.5 * v * kconst * span * span
+            elif t == a and end == b:
+                total += f * span + v * lam * pieces[p, INT_K2]
+            else:
+                total += f * span + v * lam * _integrals(t, end, src)[2]
+            stick += span
+            if root > t:  # slip starts: f drops to the kinetic limit
+                low = -np.inf
+                n_r, rate_r, k_r = normal_at(root, src)
+                f = mu_k * n_r
+                if _stiffness(k_r, law) * v - mu_k * rate_r > 0.0:
+                    phase = SLIP
+            else:
+                f = f_b
+        else:
+            low = -np.inf
+            s_b = _stiffness(pieces[p, K_B], law) * v - mu_k * pieces[p, RATE_B]
+            if s_b < -tol_s:
+                root = _root(SLIP_RATE, t, b, tol_s, s_b, t, f, law, src, xtol)
+            else:
+                s_m = _switching(SLIP_RATE, 0.5 * (t + b), t, f, law, src)
+                if s_m < -tol_s:
+                    root = _root(SLIP_RATE, t, 0.5 * (t + b), tol_s, s_m, t, f, law, src, xtol)
+            if root > t:  # the point stops on the kinetic limit and sticks
+                total += mu_k * _integrals(t, root, src)[0]
+                f = mu_k * normal_at(root, src)[0]
+                phase = STICK
+            else:
+                total += mu_k * (pieces[p, INT_N] if t == a else _integrals(t, b, src)[0])
+                f = mu_k * pieces[p, N_B]
+        if root > t:
+            t = root
+        else:
+            t = b
+            p += 1
+    return phase, f, total, stick, True, low
+
+
+@njit(cache=True)
+def _steady(law, pieces, src, period, max_periods, tol_f, tol_s, out):
+    """Iterate the period map from a sliding start to its cycle; fills ``out`` (R_*).
+
+    A period the point spends stuck throughout repeats with f raised by the same amount
+    G, until its smallest margin is used up: the periods that surely stay stuck are
+    taken in one step (∫f dt grows by G T per period), so that a slow drive with
+    μ_s > μ_k, whose cycle may span thousands of periods, costs a few steps.
+    """
+    v, mu_k = law[0], law[2]
+    phase, f = FLIGHT, 0.0
+    if pieces[0, CONTACT] != 0.0:
+        f = mu_k * pieces[0, N_A]
+        slides = _stiffness(pieces[0, K_A], law) * v > mu_k * pieces[0, RATE_A]
+        phase = SLIP if slides else STICK
+    phases, forces = np.empty(max_periods + 1), np.empty(max_periods + 1)
+    totals, sticks, lengths = np.empty(max_periods), np.empty(max_periods), np.empty(max_periods)
+    phases[0], forces[0] = phase, f
+    done = 0
+    k = 0
+    while k < max_periods:
+        start = f
+        phase, f, total, stick, ok, low = _period(
+            phase, f, law, pieces, src, tol_f, tol_s, 1e-15 * period
+        )
+        totals[k], sticks[k], lengths[k] = total, stick, 1.0
+        grown = f - start
+        skip = math.floor((low - tol_f) / grown) - 1.0 if low > 0.0 and grown > 0.0 else 0.0
+        if skip >= 1.0 and k + 1 < max_periods:  # the same stuck period, skip times over
+            phases[k + 1], forces[k + 1] = phase, f
+            k += 1
+            totals[k] = skip * total + grown * period * skip * (skip + 1.0) / 2.0
+            sticks[k], lengths[k] = skip * stick, skip
+            f += skip * grown
+        phases[k + 1], forces[k + 1] = phase, f
+        k += 1
+        done = k
+        if not ok:
+            break
+        for j in range(k - 1, -1, -1):  # the latest repeat: the shortest cycle
+            if phases[j] == phase and abs(forces[j] - f) <= tol_f:
+                span = lengths[j:k].sum() * period
+                out[R_FORCE] = totals[j:k].sum() / span
+                out[R_STICK] = sticks[j:k].sum() / span
+                out[R_PERIODS], out[R_ERROR] = lengths[j:k].sum(), 0.0
+                return
+    half, quarter = max(done // 2, 1), max(done // 4, 1)  # no cycle: the later half
+    mean = totals[done - half : done].sum() / (lengths[done - half : done].sum() * period)
+    late = totals[done - quarter : done].sum() / (lengths[done - quarter : done].sum() * period)
+    out[R_FORCE] = mean
+    out[R_STICK] = sticks[done - half : done].sum() / (lengths[done - half : done].sum() * period)
+    out[R_PERIODS] = 0.0
+    out[R_ERROR] = abs(late - mean) / abs(mean) if mean != 0.0 else np.inf
+
+
+@njit(cache=True, parallel=True)
+def steady_friction(speeds, mu_s, mu_k, kconst, lam, pieces, src, period, max_periods, out):
+    """The steady <f> [N] at each drive speed |v| > 0 [m/s] (rows of ``out``, R_*).
+
+    ``kconst`` > 0: constant k_t [N/m]; else k_t = ``lam`` K(δ) (Mindlin). ``pieces``
+    from :func:`build_pieces` on the same ``src``; ``period`` T [s].
+    """
+    n_max = rate_scale = 0.0
+    for i in range(pieces.shape[0]):
+        n_max = max(n_max, pieces[i, N_A], pieces[i, N_B])
+        rate_scale = max(rate_scale, abs(pieces[i, RATE_A]), abs(pieces[i, RATE_B]))
+    tol_f, tol_s = _TOL * mu_s * n_max, _TOL * mu_k * rate_scale
+    for i in prange(speeds.shape[0]):  # each speed on its own: bit-identical in any split
+        law = (speeds[i], mu_s, mu_k, kconst, lam)
+        _steady(law, pieces, src, period, max_periods, tol_f, tol_s, out[i])
