@@ -22,7 +22,15 @@ import numpy as np
 import xarray as xr
 
 from microslip.analysis.continuation import continue_branch
-from microslip.analysis.normal_flow import S_FLIGHT, S_NMAX, S_NMIN, S_YMAX, S_YMIN, propagate
+from microslip.analysis.normal_flow import (
+    S_FLIGHT,
+    S_NMAX,
+    S_NMIN,
+    S_SIZE,
+    S_YMAX,
+    S_YMIN,
+    propagate_each,
+)
 from microslip.analysis.periodic import (
     FREE_VIBRATION_INSTEAD,
     STABILITY_MARGIN,
@@ -39,7 +47,10 @@ from microslip.model.excitation import FREQUENCY_FACTOR, BaseMotion, HarmonicFor
 __all__ = ["forced_response"]
 
 MAX_POINTS_LIMIT = 100_000
-_DIFF_STEP = 1e-6  # relative step of the central difference ∂F/∂λ
+# Relative step of the forward difference ∂F/∂λ: truncation ~h, rounding ~1e-16/h. It
+# enters the tangent and the bordered Newton matrix only, never the residual, so the
+# branch points are exact solutions whatever its error.
+_DIFF_STEP = 1e-7
 
 
 def _pair(name: str, value: Any) -> tuple[float, float]:
@@ -154,18 +165,27 @@ def forced_response(
             c[EXCITATION_AMPLITUDE] = lam * lam_ref
         return c, 2.0 * math.pi / c[EXCITATION_OMEGA]
 
-    def shoot_map(u: np.ndarray, lam: float) -> tuple[np.ndarray, np.ndarray]:
-        c, period = coefficients(lam)
-        s = u * scale
-        end_state, phi, _, _, _ = propagate(c, s[0], s[1], 0.0, period, n_steps, False)
-        return end_state / scale - u, phi
+    def flows(lams: list[float], states: np.ndarray, record: bool):
+        """(ends, Φs, summaries) of one period from states[i] [m, m/s] at lams[i], the
+        rows integrated side by side (:func:`normal_flow.propagate_each`)."""
+        cs = np.empty((len(lams), base.size))
+        periods = np.empty(len(lams))
+        for i, lam in enumerate(lams):
+            cs[i], periods[i] = coefficients(lam)
+        ends = np.empty((len(lams), 2))
+        phis = np.empty((len(lams), 2, 2))
+        summaries = np.empty((len(lams), S_SIZE))
+        propagate_each(cs, states, periods, n_steps, record, ends, phis, summaries)
+        return ends, phis, summaries
 
     def residual(u: np.ndarray, lam: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        f, phi = shoot_map(u, lam)
-        jac = phi * scale[np.newaxis, :] / scale[:, np.newaxis] - np.eye(2)
+        # ∂F/∂λ by a forward difference: its flow runs beside the flow at λ (two cores).
         h = _DIFF_STEP * max(abs(lam), 1e-3)
-        f_lam = (shoot_map(u, lam + h)[0] - shoot_map(u, lam - h)[0]) / (2.0 * h)
-        return f, jac, f_lam
+        s = u * scale
+        ends, phis, _ = flows([lam, lam + h], np.array([s, s]), False)
+        f = ends[0] / scale - u
+        jac = phis[0] * scale[np.newaxis, :] / scale[:, np.newaxis] - np.eye(2)
+        return f, jac, (ends[1] - ends[0]) / (scale * h)
 
     orbit = periodic_orbit(first, strict=False)
     branch = continue_branch(
@@ -183,10 +203,8 @@ def forced_response(
             RuntimeWarning,
             stacklevel=2,
         )
-    rows = [
-        _point(coefficients(lam), n_steps, u * scale)
-        for u, lam in zip(branch.u, branch.lam, strict=True)
-    ]
+    _ends, phis, summaries = flows(branch.lam, np.array(branch.u) * scale, True)
+    rows = [_point(phi, summary) for phi, summary in zip(phis, summaries, strict=True)]
     table = np.array(rows)
     lam = np.array(branch.lam) * lam_ref
     if kind == "frequency":
@@ -224,10 +242,9 @@ def forced_response(
     return ds
 
 
-def _point(coefficients: tuple[np.ndarray, float], n_steps: int, s: np.ndarray) -> list[float]:
-    """[y_min, y_max, N_min, N_max, contact lost, max |λ|, period doubling] of one orbit."""
-    c, period = coefficients
-    _, phi, _, _, summary = propagate(c, s[0], s[1], 0.0, period, n_steps, True)
+def _point(phi: np.ndarray, summary: np.ndarray) -> list[float]:
+    """[y_min, y_max, N_min, N_max, contact lost, max |λ|, period doubling] of one orbit
+    from its monodromy matrix Φ and its propagate summary."""
     mult = np.linalg.eigvals(phi)
     modulus = np.abs(mult)
     flipped = np.any(

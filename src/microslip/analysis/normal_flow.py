@@ -30,7 +30,7 @@ g = δ is [[1, 0], [(ÿ⁺ - ÿ⁻)/δ̇, 1]]; the elastic law and Hunt–Crossl
 from __future__ import annotations
 
 import numpy as np
-from numba import njit
+from numba import njit, prange
 
 from microslip import _jit_cache  # noqa: F401  (registers the cache before any @njit)
 from microslip.integrators.dop853_tableau import N_STAGES
@@ -43,7 +43,7 @@ from microslip.model.damping import can_separate_in_overlap, damped_force_partia
 from microslip.model.excitation import applied_force
 from microslip.model.normal import gap, raw_normal_force
 
-__all__ = ["propagate"]
+__all__ = ["propagate", "propagate_each"]
 
 # Functions located inside a step.
 W_CONTACT = 0  # switching function: > 0 in contact
@@ -325,3 +325,19 @@ def propagate(c, y_start, yd_start, t0, duration, n_steps, record):
     if record:
         return state, phi, nodes[:, : count + 1].copy(), accel[:, :count].copy(), summary
     return state, phi, nodes[:, :1].copy(), accel[:, :0].copy(), summary
+
+
+@njit(cache=True, parallel=True)
+def propagate_each(cs, starts, durations, n_steps, record, ends, phis, summaries):
+    """:func:`propagate` from t0 = 0 for each row i, in parallel: coefficients cs[i],
+    state starts[i] = (y [m], ẏ [m/s]), durations[i] [s]; fills ends[i] (2,), phis[i]
+    (2, 2) and summaries[i] (S_SIZE,). Each row is integrated on its own, so its bits do
+    not depend on the other rows or the thread count.
+    """
+    for i in prange(cs.shape[0]):
+        end, phi, _nodes, _accel, summary = propagate(
+            cs[i], starts[i, 0], starts[i, 1], 0.0, durations[i], n_steps, record
+        )
+        ends[i, :] = end
+        phis[i, :, :] = phi
+        summaries[i, :] = summary
