@@ -63,10 +63,10 @@ EVENT_S_PER_STEP = 0.5e-6  # measured 0.31 us per DOP853 step (0.37 us keeping e
 RK4_S_PER_STEP = 0.25e-6  # measured 0.15 us per RK4 step (0.19 us keeping every step)
 S_PER_SAMPLE = 0.1e-6  # measured ~0.05 us per kept sample, on top of the step
 STEADY_S_PER_ORBIT = 20e-6  # measured 13.5 us per half-orbit table (per amplitude)
-# Re-measured 2026-11-24 (QA: 3e7 points took 59 s, 2 us per point, against an estimate
-# of 30 s): 1.04 us per point on a 1e6 x 3 grid, 1.95 us on 1000 x 1000 (amplitudes
-# with loss of contact cost more), 1.76 us on 1e6 x 3 with the resumable store.
-STEADY_S_PER_POINT = 3.0e-6
+# Re-measured 2026-11-24 after the table-read steady kernel (steady_state.mean_velocity_grid,
+# idle 2-core machine, both threads): 214 ns per point on 1e6 x 3, 223 ns on 1000 x 1000,
+# 213 ns on 2048 x 2048; rounded up ~3x (the machine may be loaded).
+STEADY_S_PER_POINT = 0.6e-6
 # "time" sweeps (microslip.integrators.shared_lanes): each normal set-up of a chunk (an
 # amplitude, or the one forced set-up) integrates its normal tape once, the set-ups in
 # parallel over the threads, and advances every force of it on the tape. Measured
@@ -100,7 +100,8 @@ SWEEP_BYTES_PER_POINT = 32
 BATCH_BYTES_PER_LANE = 256  # coefficients, initial and final states, block scratch
 # A Python float in a tuple (32 B), its repr in the JSON definition and fingerprint.
 BYTES_PER_AXIS_VALUE = 200
-STEADY_BYTES_PER_AMPLITUDE = 2 * 8 * (16 * 256 + 16)  # one orbit table (ys, yds)
+STEADY_BYTES_PER_AMPLITUDE = 3 * 8 * (16 * 256 + 16)  # one orbit table (ys, yds, ydds)
+STEADY_TABLES_HELD = 32  # steady_state.BATCH_AMPLITUDES: tables held at once
 
 
 class WorkLimitError(ValueError):
@@ -362,7 +363,7 @@ def estimate_sweep(
     if method == "steady":
         orbits = float(n_sets) * n_amplitudes
         seconds = orbits * STEADY_S_PER_ORBIT + points * STEADY_S_PER_POINT
-        buffers = 8 * chunk_points + (os.cpu_count() or 1) * STEADY_BYTES_PER_AMPLITUDE
+        buffers = 8 * chunk_points + STEADY_TABLES_HELD * STEADY_BYTES_PER_AMPLITUDE
         work, unit = points, "points"
     else:
         per_step = SHARED_S_PER_SETUP_STEP + n_forces * SHARED_S_PER_LANE_STEP
