@@ -21,6 +21,31 @@ import math
 from numba import njit
 
 from microslip import _jit_cache  # noqa: F401  (registers the cache before any @njit)
+
+# The Dormand–Prince 5(4) tableau of the general stepper, shared: _dp54 below is its
+# arithmetic on the two normal states.
+from microslip.integrators.steppers import (
+    _A21,
+    _A31,
+    _A32,
+    _A41,
+    _A42,
+    _A43,
+    _A51,
+    _A52,
+    _A53,
+    _A54,
+    _A61,
+    _A62,
+    _A63,
+    _A64,
+    _A65,
+    _B1,
+    _B3,
+    _B4,
+    _B5,
+    _B6,
+)
 from microslip.model.coefficients import AREA_CN, EXPONENT, GRAVITY, MASS
 from microslip.model.normal import normal_acceleration
 
@@ -61,21 +86,6 @@ def lowest_point(y_top, c):
         if abs(step) <= 1e-15 * y:
             break
     return y
-
-
-# Dormand–Prince 5(4) tableau (the coefficients of microslip.integrators.steppers).
-_A21 = 1.0 / 5.0
-_A31, _A32 = 3.0 / 40.0, 9.0 / 40.0
-_A41, _A42, _A43 = 44.0 / 45.0, -56.0 / 15.0, 32.0 / 9.0
-_A51, _A52, _A53, _A54 = 19372.0 / 6561.0, -25360.0 / 2187.0, 64448.0 / 6561.0, -212.0 / 729.0
-_A61, _A62, _A63, _A64, _A65 = (
-    9017.0 / 3168.0,
-    -355.0 / 33.0,
-    46732.0 / 5247.0,
-    49.0 / 176.0,
-    -5103.0 / 18656.0,
-)
-_B1, _B3, _B4, _B5, _B6 = 35.0 / 384.0, 500.0 / 1113.0, 125.0 / 192.0, -2187.0 / 6784.0, 11.0 / 84.0
 
 
 @njit(cache=True, inline="always")

@@ -30,6 +30,7 @@ atomic operations that would cost more per step than the laws.
 
 from __future__ import annotations
 
+import numpy as np
 from numba import njit
 
 from microslip import _jit_cache  # noqa: F401  (registers the cache before any @njit)
@@ -55,6 +56,11 @@ _BOUND_SAFETY = 2.0  # on the linear-rate bound of an interior excursion
 _CLEAR = 0  # no switch inside the step
 _CROSSING = 1  # g changes sides between the step ends
 _EXTREMUM = 2  # g may cross at an interior extremum (a root of ġ)
+
+# ``of_rate`` of :func:`locate` as NumPy booleans: a literal True/False would make numba
+# compile locate (and the step it inlines) once per value.
+_OF_RATE = np.bool_(True)
+_OF_VALUE = np.bool_(False)
 
 
 @njit(cache=True, inline="always")
@@ -166,12 +172,12 @@ def _resolve(
     of :func:`_screen` other than _CLEAR, or NO_SWITCH."""
     if verdict == _CROSSING:
         return locate(
-            which, False, method, s0, t, h, mode, c, rtol, atol, 0.0, 1.0, g0, g1, trial, work
+            which, _OF_VALUE, method, s0, t, h, mode, c, rtol, atol, 0.0, 1.0, g0, g1, trial, work
         )
     in0 = inside(which, g0)
     rising = (not in0) and holds_only_inside(which)
     theta_x = locate(
-        which, True, method, s0, t, h, mode, c, rtol, atol, 0.0, 1.0, r0, r1, trial, work
+        which, _OF_RATE, method, s0, t, h, mode, c, rtol, atol, 0.0, 1.0, r0, r1, trial, work
     )
     if not (0.0 < theta_x < 1.0):
         return NO_SWITCH
@@ -180,14 +186,15 @@ def _resolve(
     if rising:
         if inside(which, gx):  # rose, then falls back through zero by the step end
             return locate(
-                which, False, method, s0, t, h, mode, c, rtol, atol, theta_x, 1.0, gx, g1,
+                which, _OF_VALUE, method, s0, t, h, mode, c, rtol, atol, theta_x, 1.0, gx, g1,
                 trial, work,
             )  # fmt: skip
         return NO_SWITCH
     if inside(which, gx) != in0:
         return locate(
-            which, False, method, s0, t, h, mode, c, rtol, atol, 0.0, theta_x, g0, gx, trial, work
-        )
+            which, _OF_VALUE, method, s0, t, h, mode, c, rtol, atol, 0.0, theta_x, g0, gx,
+            trial, work,
+        )  # fmt: skip
     return NO_SWITCH
 
 

@@ -10,6 +10,11 @@ given, and y, ẏ carry δ, δ̇ (z = 0).
 Every path (event and rk4 integration, the batched kernel, the steady state, shooting
 and continuation) evaluates the normal force through these functions. They depend on
 the normal state (t, y, ẏ) only: the normal motion never depends on the tangential one.
+
+They are inlined into numba's IR where they are called: the right-hand sides of the
+steps, which compute N once and pass it on (:func:`acceleration_from_force`). The
+switching functions, which evaluate them a dozen times over, call them through compiled
+boundaries instead (:mod:`microslip.model.system`, docs/design.md).
 """
 
 from __future__ import annotations
@@ -29,6 +34,7 @@ from microslip.model.excitation import (
 )
 
 __all__ = [
+    "acceleration_from_force",
     "gap",
     "normal_acceleration",
     "normal_force",
@@ -75,13 +81,20 @@ def normal_force(t, y, ydot, c):
 
 
 @njit(cache=True, inline="always")
-def normal_acceleration(t, y, ydot, c):
-    """ÿ [m/s^2]: g + P(t)/m - N/m (eq. 2.4 with excitation); δ̈(t) if prescribed."""
+def acceleration_from_force(t, normal, c):
+    """ÿ [m/s^2] given the normal force N [N] at t: g + P(t)/m - N/m (eq. 2.4 with
+    excitation); δ̈(t) if prescribed (N is then not used)."""
     if c[EXCITATION_KIND] == NONE:
-        return c[GRAVITY] - normal_force(t, y, ydot, c) / c[MASS]
+        return c[GRAVITY] - normal / c[MASS]
     if is_prescribed(c):
         return prescribed_gap(t, c)[2]
-    return c[GRAVITY] + (applied_force(t, c) - normal_force(t, y, ydot, c)) / c[MASS]
+    return c[GRAVITY] + (applied_force(t, c) - normal) / c[MASS]
+
+
+@njit(cache=True, inline="always")
+def normal_acceleration(t, y, ydot, c):
+    """ÿ [m/s^2]: g + P(t)/m - N/m (eq. 2.4 with excitation); δ̈(t) if prescribed."""
+    return acceleration_from_force(t, normal_force(t, y, ydot, c), c)
 
 
 @njit(cache=True, inline="always")

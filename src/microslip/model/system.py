@@ -54,6 +54,7 @@ from microslip.model.drive import drive_force, drive_force_rate, is_kinematic
 from microslip.model.excitation import is_prescribed
 from microslip.model.friction import friction_limit, friction_limit_rate, kinetic_coefficient
 from microslip.model.normal import (
+    acceleration_from_force,
     gap,
     normal_acceleration,
     normal_force,
@@ -149,6 +150,31 @@ def is_paper_model(c):
     )
 
 
+# Compile boundaries. The switching functions evaluate the normal force a dozen times
+# over; copying each evaluation (the contact, damping and excitation laws inside) into
+# numba's IR made one compile of switching_rate take over a minute. They call these
+# compiled functions instead, each of which inlines the laws once. The arguments are
+# scalars and the coefficient tuple, so a call costs no reference counting, and the values
+# are the same bits. The right-hand side (derivatives) keeps the laws inlined: it is the
+# steps' hot loop (docs/design.md, "The compiled form").
+@njit(cache=True, error_model="numpy")
+def _normal_force_call(t, y, ydot, c):
+    """:func:`~microslip.model.normal.normal_force` [N] behind a compiled call."""
+    return normal_force(t, y, ydot, c)
+
+
+@njit(cache=True, error_model="numpy")
+def _normal_force_rate_call(t, y, ydot, c):
+    """:func:`~microslip.model.normal.normal_force_rate` [N/s] behind a compiled call."""
+    return normal_force_rate(t, y, ydot, c)
+
+
+@njit(cache=True, error_model="numpy")
+def _normal_acceleration_call(t, y, ydot, c):
+    """:func:`~microslip.model.normal.normal_acceleration` [m/s^2] behind a compiled call."""
+    return normal_acceleration(t, y, ydot, c)
+
+
 @njit(cache=True, inline="always")
 def _body_slip_acceleration(normal, t, s, mode, c):
     """ẍ [m/s^2] of a body on a rigid contact sliding in ``mode`` = sgn ẋ (eqs. 2.2,
@@ -177,7 +203,7 @@ def _contact_point_rates(t, s, mode, normal, c):
     stiffness = tangential_stiffness(gap(t, y, ydot, c)[0], c)
     if mode == 0.0:
         return 0.0, stiffness * xdot
-    force_rate = mode * kinetic_coefficient(0.0, c) * normal_force_rate(t, y, ydot, c)
+    force_rate = mode * kinetic_coefficient(0.0, c) * _normal_force_rate_call(t, y, ydot, c)
     if stiffness <= 0.0:
         return xdot, force_rate
     return xdot - force_rate / stiffness, force_rate
@@ -208,12 +234,18 @@ def derivatives(t, s, mode, c):
         udot, fdot = 0.0, 0.0
     return (
         yd,
-        normal_acceleration(t, y, yd, c),
+        acceleration_from_force(t, normal, c),
         s[XDOT],
         _body_acceleration(normal, t, s, mode, c),
         udot,
         fdot,
     )
+
+
+@njit(cache=True, error_model="numpy")
+def _derivatives_call(t, s, mode, c):
+    """:func:`derivatives` behind a compiled call (``s`` a state tuple)."""
+    return derivatives(t, s, mode, c)
 
 
 @njit(cache=True, inline="always")
@@ -268,7 +300,7 @@ def _held_force(t, s, c):
 def _interface_velocity(t, s, mode, c):
     """Velocity [m/s] of the interface in ``mode``: ẋ (rigid) or u̇ (compliant)."""
     if is_compliant(c):
-        return _contact_point_rates(t, s, mode, normal_force(t, s[Y], s[YDOT], c), c)[0]
+        return _contact_point_rates(t, s, mode, _normal_force_call(t, s[Y], s[YDOT], c), c)[0]
     return s[XDOT]
 
 
@@ -284,7 +316,7 @@ def _contact_point_acceleration(t, s, mode, c):
     """ü [m/s^2] of a sliding compliant contact point, by a central difference along
     the flow of :func:`derivatives` (see ``_RATE_STEP``)."""
     eps = _RATE_STEP * (c[STATIC_DEFLECTION] / c[GRAVITY]) ** 0.5
-    d = derivatives(t, s, mode, c)
+    d = _derivatives_call(t, s, mode, c)
     plus = (
         s[Y] + eps * d[0], s[YDOT] + eps * d[1], s[X] + eps * d[2],
         s[XDOT] + eps * d[3], s[U] + eps * d[4], s[FT] + eps * d[5],
@@ -293,9 +325,11 @@ def _contact_point_acceleration(t, s, mode, c):
         s[Y] - eps * d[0], s[YDOT] - eps * d[1], s[X] - eps * d[2],
         s[XDOT] - eps * d[3], s[U] - eps * d[4], s[FT] - eps * d[5],
     )  # fmt: skip
-    ahead = _contact_point_rates(t + eps, plus, mode, normal_force(t + eps, plus[0], plus[1], c), c)
+    ahead = _contact_point_rates(
+        t + eps, plus, mode, _normal_force_call(t + eps, plus[0], plus[1], c), c
+    )
     behind = _contact_point_rates(
-        t - eps, minus, mode, normal_force(t - eps, minus[0], minus[1], c), c
+        t - eps, minus, mode, _normal_force_call(t - eps, minus[0], minus[1], c), c
     )
     return (ahead[0] - behind[0]) / (2.0 * eps)
 
@@ -314,7 +348,7 @@ def switching_value(which, t, s, mode, c):
         delta, delta_rate, _ = gap(t, y, yd, c)
         return _separation_value(delta, delta_rate, c)
     if which == STICK_MARGIN:
-        return friction_limit(normal_force(t, y, yd, c), c) - abs(_held_force(t, s, c))
+        return friction_limit(_normal_force_call(t, y, yd, c), c) - abs(_held_force(t, s, c))
     return mode * _interface_velocity(t, s, mode, c)
 
 
@@ -331,18 +365,18 @@ def switching_rate(which, t, s, mode, c):
         if elastic < _ELASTIC_FLOOR:
             elastic = _ELASTIC_FLOOR
         d_delta, d_rate = damped_force_partials(elastic, elastic_stiffness(delta, c), delta_rate, c)
-        delta_accel = third if is_prescribed(c) else normal_acceleration(t, y, yd, c) - third
+        delta_accel = third if is_prescribed(c) else _normal_acceleration_call(t, y, yd, c) - third
         return d_delta * delta_rate + d_rate * delta_accel
     if which == STICK_MARGIN:
-        rate = friction_limit_rate(normal_force_rate(t, y, yd, c), c)
+        rate = friction_limit_rate(_normal_force_rate_call(t, y, yd, c), c)
         if is_compliant(c):
-            held_rate = _contact_point_rates(t, s, 0.0, normal_force(t, y, yd, c), c)[1]
+            held_rate = _contact_point_rates(t, s, 0.0, _normal_force_call(t, y, yd, c), c)[1]
         else:
             held_rate = drive_force_rate(t, s[X], s[XDOT], c)
         return rate - sign(_held_force(t, s, c)) * held_rate
-    if is_compliant(c) and normal_force(t, y, yd, c) > 0.0:
+    if is_compliant(c) and _normal_force_call(t, y, yd, c) > 0.0:
         return mode * _contact_point_acceleration(t, s, mode, c)
-    return mode * _body_acceleration(normal_force(t, y, yd, c), t, s, mode, c)
+    return mode * _body_acceleration(_normal_force_call(t, y, yd, c), t, s, mode, c)
 
 
 @njit(cache=True)
@@ -380,7 +414,7 @@ def initial_mode(t, s, c):
     slip towards F. Compliant: stick iff |f| <= μ_s N, else slip towards f, with f set
     to the kinetic limit μ_k N (in place in ``s``); in flight the label sgn ẋ.
     """
-    normal = normal_force(t, s[Y], s[YDOT], c)
+    normal = _normal_force_call(t, s[Y], s[YDOT], c)
     if is_compliant(c):
         if normal <= 0.0:
             return _flight_mode(s)
@@ -410,10 +444,10 @@ def _touchdown_mode(t, s, c):
     touchdown (N = 0+) stick holds only if μ_s dN/dt >= k_t |ẋ|; otherwise the point
     slides with the body's direction on the limit f = μ_k N (= 0+).
     """
-    normal = normal_force(t, s[Y], s[YDOT], c)
+    normal = _normal_force_call(t, s[Y], s[YDOT], c)
     if friction_limit(normal, c) > _GRAZING * c[MASS] * c[GRAVITY] or s[XDOT] == 0.0:
         return 0.0
-    limit_rate = friction_limit_rate(normal_force_rate(t, s[Y], s[YDOT], c), c)
+    limit_rate = friction_limit_rate(_normal_force_rate_call(t, s[Y], s[YDOT], c), c)
     loading = tangential_stiffness(gap(t, s[Y], s[YDOT], c)[0], c) * abs(s[XDOT])
     if limit_rate >= loading:
         return 0.0
@@ -425,7 +459,7 @@ def _touchdown_mode(t, s, c):
 @njit(cache=True)
 def _compliant_switch(which, t, s, mode, c):
     """(new mode, event) of a compliant contact point after a friction switch."""
-    normal = normal_force(t, s[Y], s[YDOT], c)
+    normal = _normal_force_call(t, s[Y], s[YDOT], c)
     if which == STICK_MARGIN:
         # Slip starts towards the spring force, which drops to the kinetic limit
         # (instantly: the contact point is massless). Where μ_s > μ_k and N falls the
