@@ -2,6 +2,7 @@
 leave no output of the run, every refusal is one line before any computation, and no
 setting is silently dropped."""
 
+import gc
 import os
 import re
 import signal
@@ -208,3 +209,28 @@ def test_an_interrupt_swallowed_by_native_code_is_still_reported_as_one(
     word = "terminated" if sig == signal.SIGTERM else "interrupted"
     one_line(status, err, code, word)
     assert "Exception ignored" not in err and "internal error" not in err
+
+
+class _HalfBuilt:
+    """Like an llvmlite object cut off in its constructor: its ``__del__`` fails."""
+
+    def __del__(self):
+        raise AttributeError("'_HalfBuilt' object has no attribute '_as_parameter_'")
+
+
+def test_ctrl_c_inside_a_compile_prints_one_line_only(tmp_path, monkeypatch, capsys):
+    # The interrupt's traceback holds the frame of the cut-off compile; freed once the
+    # command has printed its line, its half-built objects used to print
+    # "Exception ignored in ... AttributeError" under it (seen on a cold kernel cache).
+    def fake_plot(result, path, dpi=150):
+        half_built = _HalfBuilt()
+        half_built.cycle = half_built  # freed by the garbage collector, not at once
+        raise KeyboardInterrupt
+
+    reported = []
+    monkeypatch.setattr("sys.unraisablehook", reported.append)
+    monkeypatch.setattr("microslip.plotting.trajectory.write_trajectory_plot", fake_plot)
+    status, _, err = run(capsys, *SIM, "--out", tmp_path / "t.nc", "--plot", tmp_path / "t.png")
+    one_line(status, err, 130, "interrupted")
+    gc.collect()
+    assert reported == []

@@ -11,13 +11,22 @@ written, so that a late interrupt can say that those outputs are complete.
 from __future__ import annotations
 
 import contextlib
+import gc
 import signal
 import sys
 import threading
 from collections.abc import Iterator
 from dataclasses import dataclass, field
 
-__all__ = ["RUN", "Terminated", "handling_signals", "interrupt_for", "uninterruptible"]
+__all__ = [
+    "RUN",
+    "Terminated",
+    "handling_signals",
+    "ignore_unraisable",
+    "interrupt_for",
+    "release_quietly",
+    "uninterruptible",
+]
 
 _SIGNALS = (signal.SIGINT, signal.SIGTERM)
 
@@ -99,3 +108,26 @@ def uninterruptible() -> Iterator[None]:
             signum = _held[0]
             _held.clear()
             _raise_for(signum)
+
+
+def ignore_unraisable(_unraisable) -> None:
+    """After an interrupt: objects cut off mid-construction (an interrupted JIT compile
+    leaves half-built llvmlite objects) fail in ``__del__``; their "Exception ignored
+    in ..." tracebacks would follow the one line already printed."""
+
+
+def release_quietly(error: BaseException) -> None:
+    """Free the frames of an interrupted command now, with those reports off.
+
+    The traceback of the interrupt holds the frames of the compile it cut short; freed at
+    the end of the ``except`` clause, after the hooks of :func:`handling_signals` are
+    gone, their half-built objects would print "Exception ignored" under the one line.
+    """
+    previous = sys.unraisablehook
+    sys.unraisablehook = ignore_unraisable
+    try:
+        error.__traceback__ = None
+        error.__context__ = None
+        gc.collect()
+    finally:
+        sys.unraisablehook = previous

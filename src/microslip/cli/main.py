@@ -33,7 +33,14 @@ from microslip.cli.commands import (
     cmd_simulate,
 )
 from microslip.cli.friction_command import add_friction_command
-from microslip.cli.interrupts import RUN, Terminated, handling_signals, interrupt_for
+from microslip.cli.interrupts import (
+    RUN,
+    Terminated,
+    handling_signals,
+    ignore_unraisable,
+    interrupt_for,
+    release_quietly,
+)
 from microslip.cli.model_options import add_part_options
 from microslip.cli.options import CliError, finite, integer, path_text, real
 from microslip.cli.response_command import cmd_response
@@ -352,10 +359,14 @@ def main(argv: list[str] | None = None) -> int:
         os.dup2(devnull, sys.stdout.fileno())  # no second error while flushing at exit
         return 0
     except KeyboardInterrupt as interrupt:  # also SIGTERM (Terminated)
-        return _interrupted(command, interrupt)
+        status = _interrupted(command, interrupt)
+        release_quietly(interrupt)
+        return status
     except Exception as error:
         if RUN.signal is not None:  # an interrupt that native code swallowed, then failed
-            return _interrupted(command, interrupt_for(RUN.signal))
+            status = _interrupted(command, interrupt_for(RUN.signal))
+            release_quietly(error)
+            return status
         if debug:
             raise
         return _fail(command, _error_text(error))
@@ -384,19 +395,13 @@ def _late_signal(signum: int, frame) -> None:
     os._exit(_interrupted(RUN.command, interrupt))
 
 
-def _ignore_unraisable(_unraisable) -> None:
-    """After an interrupt: objects cut off mid-construction (an interrupted JIT compile
-    leaves half-built llvmlite objects) fail in ``__del__`` at shutdown; their "Exception
-    ignored in ..." tracebacks would follow the one line already printed."""
-
-
 def entry_point() -> None:
     status = main()
     if status == 0:
         for sig in (signal.SIGINT, signal.SIGTERM):
             signal.signal(sig, _late_signal)
     elif status in (EXIT_INTERRUPTED, EXIT_TERMINATED):
-        sys.unraisablehook = _ignore_unraisable
+        sys.unraisablehook = ignore_unraisable  # and at shutdown
     sys.exit(status)
 
 
