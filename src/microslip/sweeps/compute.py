@@ -34,8 +34,34 @@ def compute_chunk(spec: SweepSpec, key: ChunkKey) -> np.ndarray:
         return out
     dt = spec.dt if spec.dt is not None else params.natural_period / DEFAULT_RK4_STEPS_PER_PERIOD
     normal0 = np.array([initial_state_from_amplitude(params, a)[:2] for a in amplitudes])
-    x = _shared_run(spec.model_at(key), normal0, forces, spec.duration, dt)
+    x = _shared_run([spec.model_at(key)] * amplitudes.size, normal0, forces, spec.duration, dt)
     return (x / spec.duration).T
+
+
+def compute_chunks(spec: SweepSpec, keys: list[ChunkKey]) -> list[np.ndarray]:
+    """:func:`compute_chunk` of each key, the same bits; a forced model's time chunks go
+    through one shared-normal run, so that their normal set-ups (one per chunk) spread
+    over the cores (a set-up's lanes depend on nothing else in the run)."""
+    if not (spec.forced and spec.method == "time"):
+        return [compute_chunk(spec, key) for key in keys]
+    models = [spec.model_at(key) for key in keys]
+    steps = [_forced_time_step(spec, model) for model in models]
+    blocks: list[np.ndarray | None] = [None] * len(keys)
+    for dt in dict.fromkeys(steps):  # one run per step size, in first-seen order
+        picked = [k for k, step in enumerate(steps) if step == dt]
+        normal0 = np.array([[models[k].params.static_deflection, 0.0] for k in picked])
+        x = _shared_run([models[k] for k in picked], normal0, spec.forces, spec.duration, dt)
+        for row, k in enumerate(picked):
+            blocks[k] = (x[row] / spec.duration)[:, None]
+    return blocks
+
+
+def _forced_time_step(spec: SweepSpec, model) -> float:
+    """The RK4 step [s] of a forced model's time run: ``spec.dt`` or 1/200 of the period
+    the step must resolve."""
+    if spec.dt is not None:
+        return spec.dt
+    return SweepSpec.step_period(model) / DEFAULT_RK4_STEPS_PER_PERIOD
 
 
 # -- models past the paper's (docs/design.md) ---------------------------------------------
@@ -59,7 +85,8 @@ def forced_chunk(spec: SweepSpec, key: ChunkKey) -> np.ndarray:
 
     "steady": the reflected process over one period of the periodic orbit reached from
     rest, shared by every force (a time average where that response is not period-1,
-    with a ``RuntimeWarning``). "time": x(T)/T of a batched RK4 run from rest at y0.
+    with a ``RuntimeWarning``). "time": x(T)/T from rest at y0 by the shared-normal
+    kernel (:func:`compute_chunks`).
     """
     import warnings
 
@@ -71,11 +98,7 @@ def forced_chunk(spec: SweepSpec, key: ChunkKey) -> np.ndarray:
     model = spec.model_at(key)
     forces = np.asarray(spec.forces, dtype=float)
     if spec.method == "time":
-        period = SweepSpec.step_period(model)
-        dt = spec.dt if spec.dt is not None else period / DEFAULT_RK4_STEPS_PER_PERIOD
-        normal0 = np.array([[model.params.static_deflection, 0.0]])
-        x = _shared_run(model, normal0, forces, spec.duration, dt)
-        return (x[0] / spec.duration)[:, None]
+        return compute_chunks(spec, [key])[0]
     try:
         table = model_sliding_table(model)
     except NotPeriodOneError as error:
@@ -92,17 +115,19 @@ def forced_chunk(spec: SweepSpec, key: ChunkKey) -> np.ndarray:
     return mean_velocities(table, model.params.mu, forces)[:, None]
 
 
-def _shared_run(model, normal0, forces, duration, dt) -> np.ndarray:
-    """x(duration) [m], shape (set-ups, forces), from rest on each normal set-up
-    (rows of ``normal0``: y [m], ẏ [m/s] at t = 0) under every constant force [N]."""
+def _shared_run(models, normal0, forces, duration, dt) -> np.ndarray:
+    """x(duration) [m], shape (set-ups, forces), from rest on each normal set-up (one
+    model per row of ``normal0``: y [m], ẏ [m/s] at t = 0) under every constant force [N]."""
     from microslip.integrators.normal_tape import normal_coefficients
     from microslip.integrators.shared_lanes import run_shared
 
+    forces = np.asarray(forces, dtype=float)
     n_setups = normal0.shape[0]
-    coeffs = np.repeat(normal_coefficients(model.pack(0.0))[None, :], n_setups, axis=0)
+    packed = {id(model): normal_coefficients(model.pack(0.0)) for model in models}
+    coeffs = np.array([packed[id(model)] for model in models])
     groups = np.repeat(np.arange(n_setups), forces.size)
     lane_forces = np.tile(forces, n_setups)
-    mu = np.full(lane_forces.size, model.params.mu)
+    mu = np.repeat([model.params.mu for model in models], forces.size)
     x = run_shared(coeffs, normal0, groups, lane_forces, mu, mu, duration, dt)[0]
     return x.reshape(n_setups, forces.size)
 

@@ -13,7 +13,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from microslip.sweeps.compute import compute_chunk
+from microslip.sweeps.compute import compute_chunk, compute_chunks
 from microslip.sweeps.dataset import sweep_dataset
 from microslip.sweeps.spec import SweepSpec
 from microslip.sweeps.store import SweepStore, exclusive_lock
@@ -104,6 +104,20 @@ def _checked(spec: SweepSpec, key, block) -> np.ndarray:
     return block
 
 
+# In-process, a forced model's time chunks (one normal set-up each) are computed this many
+# at a time in one shared-normal run, which spreads the set-ups over the cores; one at a
+# time, each would keep a single core busy. Small enough for a lively progress bar.
+LOCAL_BATCH = 16
+
+
+def _local_batches(spec: SweepSpec, keys: list) -> Iterator[list]:
+    """``keys`` in the batches the in-process loop computes together (single keys except
+    for a forced model's time chunks)."""
+    size = LOCAL_BATCH if spec.forced and spec.method == "time" else 1
+    for start in range(0, len(keys), size):
+        yield keys[start : start + size]
+
+
 def run_sweep(
     spec: SweepSpec,
     *,
@@ -165,9 +179,11 @@ def run_sweep(
 
         with _progress(spec.n_chunks, spec.n_chunks - len(todo), progress) as bar:
             if client is None:
-                for key in todo:
-                    save(key, compute_chunk(spec, key))
-                    bar.update()
+                for batch in _local_batches(spec, todo):
+                    blocks = compute_chunks(spec, batch) if len(batch) > 1 else None
+                    for k, key in enumerate(batch):
+                        save(key, compute_chunk(spec, key) if blocks is None else blocks[k])
+                        bar.update()
             elif todo:
                 from distributed import as_completed
 
