@@ -83,10 +83,6 @@ from microslip.model.system import (
 
 __all__ = ["DEFAULT_BLOCK", "BatchResult", "simulate_batch", "time_grid"]
 
-# The method passed to the shared switching core, as a NumPy integer: a module-level int
-# is a literal to numba, which would compile the core once more for it (docs/design.md).
-_RK4 = np.int64(RK4)
-
 DEFAULT_BLOCK = 64
 
 # Lane status.
@@ -137,7 +133,7 @@ def _scalar_step(s, mode, t, target, c, s1, have_s1, piece, trial, extremum, wor
             rk4_step(s, t, h, mode, c, s1, work)
         if may_switch(t, h, mode, c, state_tuple(s), state_tuple(s1)):
             theta, which = piece_end(
-                _RK4, s, s1, t, h, mode, c, 1.0, atol, piece, trial, extremum, work
+                RK4, s, s1, t, h, mode, c, 1.0, atol, piece, trial, extremum, work
             )
         else:
             theta, which = NO_SWITCH, -1

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import numpy as np
 from numba import njit
 
 from microslip import _jit_cache  # noqa: F401  (registers the cache before any @njit)
@@ -10,9 +11,11 @@ from microslip.integrators.steppers import WORK_ROWS, dp54_step, rk4_step
 
 __all__ = ["CONTROLLER_EXPONENT", "DOP853", "DP54", "RK4", "WORK_ROWS", "advance"]
 
-RK4 = 0  # classical Runge–Kutta, fixed step (the paper's method)
-DP54 = 1  # Dormand–Prince 5(4), adaptive (also the orbit tables' fixed-step 5th order)
-DOP853 = 2  # Dormand–Prince 8(5,3), adaptive: the "event" method
+# NumPy integers, not Python ones: numba types a module-level int passed to a jitted
+# function as a literal and compiles the callee once per value (docs/design.md).
+RK4 = np.int64(0)  # classical Runge–Kutta, fixed step (the paper's method)
+DP54 = np.int64(1)  # Dormand–Prince 5(4), adaptive (also the orbit tables' fixed-step 5th order)
+DOP853 = np.int64(2)  # Dormand–Prince 8(5,3), adaptive: the "event" method
 
 # Exponent of the step-size controller, -1/(order of the error estimate + 1).
 CONTROLLER_EXPONENT = (0.0, -1.0 / 5.0, -1.0 / 8.0)

@@ -69,14 +69,6 @@ ROW = 15
 
 _BISECTIONS = 60  # halvings of a bracket of P' (2^-60 < 1e-18 of a piece)
 
-# The constants passed to the core switching functions, as NumPy integers: numba types a
-# module-level int as a literal and compiles a callee once per literal value, and each
-# such compile of a switching function takes a minute; NumPy scalars are plain int64
-# and share the one specialisation the other integration paths use.
-_RK4 = np.int64(RK4)
-_CONTACT_GAP = np.int64(CONTACT_GAP)
-_SEPARATION = np.int64(SEPARATION)
-
 
 def normal_coefficients(c: np.ndarray) -> np.ndarray:
     """A copy of coefficient vector ``c`` whose tangential side cannot switch: a rigid
@@ -222,8 +214,8 @@ def _end_values(t, y, ydot, c):
     state = (y, ydot, 0.0, 1.0, 0.0, 0.0)
     return (
         normal_acceleration(t, y, ydot, c),
-        _switching_value(_SEPARATION, t, state, 1.0, c),
-        switching_rate(_SEPARATION, t, state, 1.0, c),
+        _switching_value(SEPARATION, t, state, 1.0, c),
+        switching_rate(SEPARATION, t, state, 1.0, c),
     )
 
 
@@ -286,10 +278,10 @@ def _may_switch(t, h, y0, v0, y1, v1, c):
     """False when neither contact function can flip inside the step."""
     x0 = (y0, v0, 0.0, 1.0, 0.0, 0.0)
     x1 = (y1, v1, 0.0, 1.0, 0.0, 0.0)
-    if screen(_CONTACT_GAP, t, h, 1.0, c, x0, x1)[0] != CLEAR:
+    if screen(CONTACT_GAP, t, h, 1.0, c, x0, x1)[0] != CLEAR:
         return True
     if can_separate_in_overlap(c):
-        return screen(_SEPARATION, t, h, 1.0, c, x0, x1)[0] != CLEAR
+        return screen(SEPARATION, t, h, 1.0, c, x0, x1)[0] != CLEAR
     return False
 
 
@@ -330,10 +322,10 @@ def fill_tape(carry, c_array, t_end, dt, tape, work):
             s1[:] = s0
             s1[0], s1[1] = y1, v1
             theta, which = first_switch(
-                _RK4, s0, s1, t, h, mode, c, 0.0, atol, trial, extremum, work
+                RK4, s0, s1, t, h, mode, c, 0.0, atol, trial, extremum, work
             )
             if which >= 0 and theta < 1.0:
-                advance(_RK4, s0, t, theta * h, mode, c, 0.0, atol, piece, work)
+                advance(RK4, s0, t, theta * h, mode, c, 0.0, atol, piece, work)
                 t1 = t + theta * h
                 mode, _ = apply_switch(which, t1, piece, mode, c)
                 y1, v1 = piece[0], piece[1]

@@ -93,11 +93,13 @@ __all__ = [
 N_STATE = 6
 Y, YDOT, X, XDOT, U, FT = 0, 1, 2, 3, 4, 5
 
-# Switching functions.
-CONTACT_GAP = 0
-SEPARATION = 1
-STICK_MARGIN = 2
-SLIDING_SPEED = 3
+# Switching functions. NumPy integers, not Python ones: numba types a module-level int
+# passed to a jitted function as a literal and compiles the callee once per value
+# (docs/design.md, "The compiled form").
+CONTACT_GAP = np.int64(0)
+SEPARATION = np.int64(1)
+STICK_MARGIN = np.int64(2)
+SLIDING_SPEED = np.int64(3)
 N_SWITCHES = 4
 
 # Event kinds recorded in the output (codes kept stable: files and the CLI use them).

@@ -38,11 +38,17 @@ def compute_chunk(spec: SweepSpec, key: ChunkKey) -> np.ndarray:
     return (x / spec.duration).T
 
 
+def shares_runs(spec: SweepSpec) -> bool:
+    """True when :func:`compute_chunks` computes several chunks in one run: a forced
+    model's time chunks, one normal set-up each."""
+    return spec.forced and spec.method == "time"
+
+
 def compute_chunks(spec: SweepSpec, keys: list[ChunkKey]) -> list[np.ndarray]:
     """:func:`compute_chunk` of each key, the same bits; a forced model's time chunks go
     through one shared-normal run, so that their normal set-ups (one per chunk) spread
     over the cores (a set-up's lanes depend on nothing else in the run)."""
-    if not (spec.forced and spec.method == "time"):
+    if not shares_runs(spec):
         return [compute_chunk(spec, key) for key in keys]
     models = [spec.model_at(key) for key in keys]
     steps = [_forced_time_step(spec, model) for model in models]
@@ -139,8 +145,7 @@ def _forced_run(spec, model, forces, duration, states0=None) -> np.ndarray:
     an earlier run (the excitation restarts at phase 0)."""
     from microslip.integrators.batched import simulate_batch
 
-    period = SweepSpec.step_period(model)
-    dt = spec.dt if spec.dt is not None else period / DEFAULT_RK4_STEPS_PER_PERIOD
+    dt = _forced_time_step(spec, model)
     coeffs = np.repeat(model.pack(0.0)[None, :], forces.size, axis=0)
     coeffs[:, FORCE] = forces
     if states0 is None:

@@ -13,7 +13,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from microslip.sweeps.compute import compute_chunk, compute_chunks
+from microslip.sweeps.compute import compute_chunk, compute_chunks, shares_runs
 from microslip.sweeps.dataset import sweep_dataset
 from microslip.sweeps.spec import SweepSpec
 from microslip.sweeps.store import SweepStore, exclusive_lock
@@ -113,7 +113,7 @@ LOCAL_BATCH = 16
 def _local_batches(spec: SweepSpec, keys: list) -> Iterator[list]:
     """``keys`` in the batches the in-process loop computes together (single keys except
     for a forced model's time chunks)."""
-    size = LOCAL_BATCH if spec.forced and spec.method == "time" else 1
+    size = LOCAL_BATCH if shares_runs(spec) else 1
     for start in range(0, len(keys), size):
         yield keys[start : start + size]
 
