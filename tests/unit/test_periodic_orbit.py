@@ -145,15 +145,15 @@ def test_monodromy_is_the_derivative_of_the_flow_map(model):
     orbit = periodic_orbit(model)
     c, n = model.pack(0.0), steps_per_period(model)
     s = orbit.y0_state
-    _, phi, _, _, summary = propagate(c, s[0], s[1], 0.0, orbit.period, n, False)
+    _, phi, _, _, summary = propagate(c, s[0], s[1], 0.0, orbit.period, n, False, True)
     assert summary[S_EVENTS] == 2.0  # one separation and one touchdown per period
     scale = state_scale(model)
     fd = np.empty((2, 2))
     for j in range(2):
         d = np.zeros(2)
         d[j] = 1e-6 * scale[j]
-        plus = propagate(c, *(s + d), 0.0, orbit.period, n, False)[0]
-        minus = propagate(c, *(s - d), 0.0, orbit.period, n, False)[0]
+        plus = propagate(c, *(s + d), 0.0, orbit.period, n, False, False)[0]
+        minus = propagate(c, *(s - d), 0.0, orbit.period, n, False, False)[0]
         fd[:, j] = (plus - minus) / (2.0 * d[j])
     # Compare in the scaled state, where the entries are O(1).
     to_scaled = scale[np.newaxis, :] / scale[:, np.newaxis]

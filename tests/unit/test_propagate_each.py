@@ -33,7 +33,7 @@ def test_rows_equal_propagate_alone_in_any_company_and_thread_count():
     assert summaries[:, 4].max() == 1.0  # a row loses contact: switches are exercised
     for i in range(4):
         end, phi, _n, _a, summary = propagate(
-            cs[i], starts[i, 0], starts[i, 1], 0.0, periods[i], N_STEPS, True
+            cs[i], starts[i, 0], starts[i, 1], 0.0, periods[i], N_STEPS, True, True
         )
         np.testing.assert_array_equal(ends[i], end)
         np.testing.assert_array_equal(phis[i], phi)
@@ -47,3 +47,19 @@ def test_rows_equal_propagate_alone_in_any_company_and_thread_count():
     np.testing.assert_array_equal(ends_1, ends[[2, 0]])
     np.testing.assert_array_equal(phis_1, phis[[2, 0]])
     assert all(math.isfinite(v) for v in ends.ravel())
+
+
+def test_state_only_flow_has_the_bits_of_the_variational_one():
+    """A transient skips the variational equation: its state, recorded nodes and
+    summary must be those of the full flow bit for bit (the four Φ components must not
+    leak into y, ẏ, nor the re-steps that locate switches depend on them), and Φ is NaN
+    rather than a stale identity."""
+    cs = np.array([MODEL.replace(**{"excitation.frequency": f}).pack(0.0) for f in FREQUENCIES])
+    for i in range(4):
+        start = (P.static_deflection * (1 + 0.3 * i), 0.01 * i)
+        full = propagate(cs[i], *start, 0.0, 3.0 / FREQUENCIES[i], 3 * N_STEPS, True, True)
+        alone = propagate(cs[i], *start, 0.0, 3.0 / FREQUENCIES[i], 3 * N_STEPS, True, False)
+        for k in (0, 2, 3, 4):  # state, nodes, accelerations, summary
+            np.testing.assert_array_equal(alone[k], full[k])
+        assert np.isnan(alone[1]).all()
+        assert np.isfinite(full[1]).all()

@@ -9,6 +9,7 @@ import pytest
 
 import microslip as ms
 from microslip.integrators import normal_tape as nt
+from microslip.integrators import shared_lanes as sl
 from microslip.integrators.shared_lanes import run_shared
 from microslip.simulation import initial_state_from_amplitude
 
@@ -43,6 +44,22 @@ def test_integrals_extremes_and_critical_points_of_random_quartics(seed):
     roots = sorted(r.real for r in p.deriv().roots() if abs(r.imag) < 1e-12 and 0 < r.real < 1)
     assert n_crit == len(roots)
     np.testing.assert_allclose(crit[:n_crit], roots, atol=1e-12)
+
+
+@pytest.mark.parametrize("slope", [1e-3, 1e-6, 1e-9])
+def test_release_is_the_first_point_strictly_below_the_level_where_p_is_flat(slope):
+    """A stick release at the first τ with P(τ) < |F|/μ_s strictly, even where P is
+    flat to rounding over many tolerances (a slope of 1e-9 N over a piece at P ~ 1 N:
+    P - level is exactly 0 over ~1e-7 of the piece). A finder that takes an exact zero
+    for the far side fails the first assertion, one that overshoots the second."""
+    a = (1.0, -slope, 0.0, 0.0, 0.0)  # P = 1 - slope τ [N]
+    level = 1.0 - 0.37 * slope  # P crosses it near τ = 0.37
+    crit = (0, 0.0, 0.0, 0.0)
+    tau = sl._first_below(a, crit, 0.0, level)
+    assert nt.poly(a, tau) < level
+    # Just before it, P is not below the level (within the tolerance).
+    assert nt.poly(a, tau - 2.0 * sl._TAU_TOLERANCE) >= level
+    assert tau == pytest.approx(0.37, abs=1e-16 / slope + 1e-12)
 
 
 def _lanes(n_setups=5, n_forces=7):

@@ -62,6 +62,8 @@ S_SIZE = 6
 
 _EPS = 2.220446049250313e-16
 _DIM = 6  # y, ẏ, Φ00, Φ01, Φ10, Φ11
+_STATE = np.int64(2)  # y, ẏ alone (np.int64: no literal specialisation of the callees)
+_VARIATIONAL = np.bool_(True)
 
 
 @njit(cache=True, inline="always")
@@ -87,12 +89,16 @@ def _raw_partials(t, y, yd, c):
     )
 
 
-@njit(cache=True)
-def _rhs(t, s, c, contact, out):
+@njit(cache=True, inline="always")
+def _rhs(t, s, c, contact, out, dim):
+    """The first ``dim`` components of the field: (ẏ, ÿ) with dim = _STATE, and the
+    variational equation's four after them with dim = _DIM."""
     y = s[0]
     yd = s[1]
     out[0] = yd
     out[1] = _accel(t, y, yd, c, contact)
+    if dim == _STATE:
+        return
     k_y, k_v = 0.0, 0.0
     if contact:
         k_y, k_v = _raw_partials(t, y, yd, c)
@@ -104,16 +110,18 @@ def _rhs(t, s, c, contact, out):
 
 
 @njit(cache=True)
-def _step(t, s, h, c, contact, k, tmp, out):
-    """One 8th-order Dormand–Prince step of length h from (t, s) into ``out``."""
+def _step(t, s, h, c, contact, k, tmp, out, dim):
+    """One 8th-order Dormand–Prince step of length h from (t, s) into ``out``, of the
+    first ``dim`` components (_STATE: y, ẏ only; _DIM: with Φ). The components do not
+    feed back into (y, ẏ), whose bits are the same either way."""
     for i in range(N_STAGES):
-        for d in range(_DIM):
+        for d in range(dim):
             acc = 0.0
             for j in range(i):
                 acc += _A[i, j] * k[j, d]
             tmp[d] = s[d] + h * acc
-        _rhs(t + _C[i] * h, tmp, c, contact, k[i])
-    for d in range(_DIM):
+        _rhs(t + _C[i] * h, tmp, c, contact, k[i], dim)
+    for d in range(dim):
         acc = 0.0
         for i in range(N_STAGES):
             acc += _B[i] * k[i, d]
@@ -167,7 +175,7 @@ def _locate(which, s0, t, h, c, contact, lo, hi, f_lo, f_hi, k, tmp, out):
         theta = hi - f_hi * (hi - lo) / (f_hi - f_lo) if f_hi != f_lo else 0.5 * (lo + hi)
         if not (lo < theta < hi):
             theta = 0.5 * (lo + hi)
-        _step(t, s0, theta * h, c, contact, k, tmp, out)
+        _step(t, s0, theta * h, c, contact, k, tmp, out, _STATE)
         f_mid = _value(which, t + theta * h, out, c, contact)
         if (f_mid > 0.0) == side_lo:
             lo, f_lo = theta, f_mid
@@ -200,7 +208,7 @@ def _first_switch(s0, s1, t, h, c, contact, k, tmp, out):
     if min(abs(f0), abs(f1)) > 2.0 * abs(h) * (abs(r0) + abs(r1)):
         return 2.0  # the dip cannot reach zero within the step
     theta_x = _locate(W_CONTACT_RATE, s0, t, h, c, contact, 0.0, 1.0, r0, r1, k, tmp, out)
-    _step(t, s0, theta_x * h, c, contact, k, tmp, out)
+    _step(t, s0, theta_x * h, c, contact, k, tmp, out, _STATE)
     fx = _value(W_CONTACT, t + theta_x * h, out, c, contact)
     if (fx > 0.0) != inside:
         return _locate(W_CONTACT, s0, t, h, c, contact, 0.0, theta_x, f0, fx, k, tmp, out)
@@ -217,7 +225,7 @@ def _note_extrema(s0, s1, t, h, c, contact, summary, k, tmp, out):
     r1 = s1[1]
     if (r0 > 0.0) != (r1 > 0.0) and r0 != 0.0 and r1 != 0.0:
         theta = _locate(W_YDOT, s0, t, h, c, contact, 0.0, 1.0, r0, r1, k, tmp, out)
-        _step(t, s0, theta * h, c, contact, k, tmp, out)
+        _step(t, s0, theta * h, c, contact, k, tmp, out, _STATE)
         summary[S_YMIN] = min(summary[S_YMIN], out[0])
         summary[S_YMAX] = max(summary[S_YMAX], out[0])
     if not contact:
@@ -232,7 +240,7 @@ def _note_extrema(s0, s1, t, h, c, contact, summary, k, tmp, out):
     q1 = _raw_rate(t + h, s1[0], s1[1], c, contact)
     if (q0 > 0.0) != (q1 > 0.0) and q0 != 0.0 and q1 != 0.0:
         theta = _locate(W_NRATE, s0, t, h, c, contact, 0.0, 1.0, q0, q1, k, tmp, out)
-        _step(t, s0, theta * h, c, contact, k, tmp, out)
+        _step(t, s0, theta * h, c, contact, k, tmp, out, _STATE)
         n = max(raw_normal_force(t + theta * h, out[0], out[1], c), 0.0)
         summary[S_NMIN] = min(summary[S_NMIN], n)
         summary[S_NMAX] = max(summary[S_NMAX], n)
@@ -248,13 +256,16 @@ def in_contact(t, y, yd, c):
 
 
 @njit(cache=True)
-def propagate(c, y_start, yd_start, t0, duration, n_steps, record):
+def propagate(c, y_start, yd_start, t0, duration, n_steps, record, variational):
     """Integrate the normal motion from (t0, y, ẏ) over ``duration`` [s] in n_steps steps.
 
     Returns (state (2,) at t0 + duration, Φ (2, 2), nodes (4, n) rows t, y, ẏ and
     node count in the last column unused, accel (2, n-1) rows ÿ at interval starts and
-    ends, summary (S_SIZE,)). Nodes and extremes are filled only when ``record``.
+    ends, summary (S_SIZE,)). Nodes and extremes are filled only when ``record``; Φ only
+    when ``variational`` (NaN otherwise: a transient needs the state alone, and skipping
+    Φ does not change its bits).
     """
+    dim = _DIM if variational else _STATE
     s = np.zeros(_DIM)
     s[0] = y_start
     s[1] = yd_start
@@ -286,11 +297,11 @@ def propagate(c, y_start, yd_start, t0, duration, n_steps, record):
             h = t_end - t
             if h <= 0.0:
                 break
-            _step(t, s, h, c, contact, k, tmp, s1)
+            _step(t, s, h, c, contact, k, tmp, s1, dim)
             theta = _first_switch(s, s1, t, h, c, contact, k, tmp, out)
             switched = theta <= 1.0
             if switched:
-                _step(t, s, theta * h, c, contact, k, tmp, s1)
+                _step(t, s, theta * h, c, contact, k, tmp, s1, dim)
                 t_new = t + theta * h
             else:
                 t_new = t_end
@@ -302,7 +313,7 @@ def propagate(c, y_start, yd_start, t0, duration, n_steps, record):
                 nodes[0, count] = t_new
                 nodes[1, count] = s1[0]
                 nodes[2, count] = s1[1]
-            s[:] = s1
+            s[:dim] = s1[:dim]
             t = t_new
             if not switched:
                 break
@@ -318,6 +329,8 @@ def propagate(c, y_start, yd_start, t0, duration, n_steps, record):
                 s[5] += factor * s[3]
     state = s[:2].copy()
     phi = np.empty((2, 2))
+    if not variational:
+        s[2:] = np.nan
     phi[0, 0] = s[2]
     phi[0, 1] = s[3]
     phi[1, 0] = s[4]
@@ -336,7 +349,7 @@ def propagate_each(cs, starts, durations, n_steps, record, ends, phis, summaries
     """
     for i in prange(cs.shape[0]):
         end, phi, _nodes, _accel, summary = propagate(
-            cs[i], starts[i, 0], starts[i, 1], 0.0, durations[i], n_steps, record
+            cs[i], starts[i, 0], starts[i, 1], 0.0, durations[i], n_steps, record, _VARIATIONAL
         )
         ends[i, :] = end
         phis[i, :, :] = phi

@@ -181,7 +181,7 @@ def shoot(c, period, n_steps, guess, scale, max_iter=30):
     s = np.array(guess, dtype=float)
     eye = np.eye(2)
     for _ in range(max_iter):
-        end, phi, _, _, _ = propagate(c, s[0], s[1], 0.0, period, n_steps, False)
+        end, phi, _, _, _ = propagate(c, s[0], s[1], 0.0, period, n_steps, False, True)
         residual = (end - s) / scale
         jac = phi * scale[np.newaxis, :] / scale[:, np.newaxis] - eye
         try:
@@ -198,7 +198,7 @@ def shoot(c, period, n_steps, guess, scale, max_iter=30):
 
 def build_orbit(c, period, n_steps, s) -> PeriodicOrbit:
     """The recorded orbit from the shooting state ``s`` at t = 0 (with its multipliers)."""
-    _end, phi, nodes, accel, summary = propagate(c, s[0], s[1], 0.0, period, n_steps, True)
+    _end, phi, nodes, accel, summary = propagate(c, s[0], s[1], 0.0, period, n_steps, True, True)
     multipliers = np.linalg.eigvals(phi).astype(complex)
     largest = float(np.max(np.abs(multipliers)))
     stable = largest < 1.0 + STABILITY_MARGIN
@@ -300,8 +300,9 @@ def periodic_orbit(
     orbit = None
     for attempt, periods in enumerate((transient_periods, 4 * transient_periods + 64)):
         if periods > 0:
+            # The transient needs the state alone: no variational equation.
             state, _, _, _, _ = propagate(
-                c, state[0], state[1], 0.0, periods * period, periods * n_steps, False
+                c, state[0], state[1], 0.0, periods * period, periods * n_steps, False, False
             )
         try:
             s = shoot(c, period, n_steps, state, scale)

@@ -41,9 +41,7 @@ from microslip.integrators.kernel import (
     next_grid_point,
 )
 from microslip.integrators.methods import RK4, WORK_ROWS, advance
-from microslip.integrators.switching import _CLEAR as CLEAR
-from microslip.integrators.switching import _screen as screen
-from microslip.integrators.switching import first_switch
+from microslip.integrators.switching import first_switch, two_sided_may_flip
 from microslip.model.coefficients import (
     DRIVE_KIND,
     DRIVE_VELOCITY,
@@ -52,15 +50,10 @@ from microslip.model.coefficients import (
 )
 from microslip.model.damping import can_separate_in_overlap
 from microslip.model.drive import KINEMATIC
+from microslip.model.excitation import is_prescribed
 from microslip.model.friction import COULOMB
 from microslip.model.normal import gap, normal_acceleration, raw_normal_force
-from microslip.model.system import (
-    CONTACT_GAP,
-    SEPARATION,
-    apply_switch,
-    switching_rate,
-)
-from microslip.model.system import switching_value as _switching_value
+from microslip.model.system import apply_switch, separation_rate, separation_value
 from microslip.model.tangential import RIGID
 
 # Columns of a tape row.
@@ -207,15 +200,22 @@ def _extremes(a):
     return p_min, p_max, n_crit, found[0], found[1], found[2]
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _end_values(t, y, ydot, c):
-    """(ÿ [m/s^2], N_raw [N], dN_raw/dt [N/s]) at a piece end (the raw law: continuous
-    through a separation inside the overlap, where the clipped N has a kink)."""
-    state = (y, ydot, 0.0, 1.0, 0.0, 0.0)
+    """(ÿ [m/s^2], N_raw [N], dN_raw/dt [N/s], δ [m], δ̇ [m/s]) at a piece end: the
+    normal acceleration, the SEPARATION function and its rate (the raw law: continuous
+    through a separation inside the overlap, where the clipped N has a kink), and the
+    CONTACT_GAP function and its rate. Computed once per boundary: the quartics on either
+    side, the screening of the step and the next step's first RK4 stage share them."""
+    delta, delta_rate, third = gap(t, y, ydot, c)
+    acceleration = normal_acceleration(t, y, ydot, c)
+    delta_accel = third if is_prescribed(c) else acceleration - third
     return (
-        normal_acceleration(t, y, ydot, c),
-        _switching_value(SEPARATION, t, state, 1.0, c),
-        switching_rate(SEPARATION, t, state, 1.0, c),
+        acceleration,
+        separation_value(delta, delta_rate, c),
+        separation_rate(delta, delta_rate, delta_accel, c),
+        delta,
+        delta_rate,
     )
 
 
@@ -226,8 +226,8 @@ def piece_coefficients(t0, y0, v0, ends0, t1, y1, v1, ends1, c):
     flight. ``ends0``, ``ends1`` are :func:`_end_values` there (computed once per
     boundary, shared by the pieces on either side)."""
     h = t1 - t0
-    acc0, n0, rate0 = ends0
-    acc1, n1, rate1 = ends1
+    acc0, n0, rate0 = ends0[0], ends0[1], ends0[2]
+    acc1, n1, rate1 = ends1[0], ends1[1], ends1[2]
     # The middle of the piece from the quintic Hermite interpolant of y.
     y_mid = 0.5 * (y0 + y1) + h * (v0 - v1) * (5.0 / 32.0) + h * h * (acc0 + acc1) / 64.0
     v_mid = 15.0 * (y1 - y0) / (8.0 * h) - 7.0 * (v0 + v1) / 16.0 + h * (acc1 - acc0) / 32.0
@@ -258,11 +258,11 @@ def start_tape(y0, ydot0):
 
 
 @njit(cache=True, error_model="numpy")
-def _rk4(t, h, y, v, c):
+def _rk4(t, h, y, v, a1, c):
     """One RK4 step of the normal motion alone: the arithmetic of
-    :func:`~microslip.integrators.steppers.rk4_step` on the (y, ẏ) components."""
+    :func:`~microslip.integrators.steppers.rk4_step` on the (y, ẏ) components; ``a1`` is
+    ÿ at the step start (from :func:`_end_values`)."""
     hh = 0.5 * h
-    a1 = normal_acceleration(t, y, v, c)
     y2, v2 = y + hh * v, v + hh * a1
     a2 = normal_acceleration(t + hh, y2, v2, c)
     y3, v3 = y + hh * v2, v + hh * a2
@@ -273,15 +273,14 @@ def _rk4(t, h, y, v, c):
     return y + w * (v + 2.0 * v2 + 2.0 * v3 + v4), v + w * (a1 + 2.0 * a2 + 2.0 * a3 + a4)
 
 
-@njit(cache=True, error_model="numpy")
-def _may_switch(t, h, y0, v0, y1, v1, c):
-    """False when neither contact function can flip inside the step."""
-    x0 = (y0, v0, 0.0, 1.0, 0.0, 0.0)
-    x1 = (y1, v1, 0.0, 1.0, 0.0, 0.0)
-    if screen(CONTACT_GAP, t, h, 1.0, c, x0, x1)[0] != CLEAR:
+@njit(cache=True, inline="always")
+def _may_switch(h, ends0, ends1, c):
+    """False when neither contact function can flip inside the step (the screening of
+    :mod:`~microslip.integrators.switching`, on the end values)."""
+    if two_sided_may_flip(ends0[3], ends1[3], ends0[4], ends1[4], h):
         return True
     if can_separate_in_overlap(c):
-        return screen(SEPARATION, t, h, 1.0, c, x0, x1)[0] != CLEAR
+        return two_sided_may_flip(ends0[1], ends1[1], ends0[2], ends1[2], h)
     return False
 
 
@@ -311,9 +310,10 @@ def fill_tape(carry, c_array, t_end, dt, tape, work):
             break
         target, k = next_grid_point(t, 0.0, k, dt, t_end)
         h = target - t
-        y1, v1 = _rk4(t, h, y, v, c)
+        y1, v1 = _rk4(t, h, y, v, ends0[0], c)
         t1 = target
-        if _may_switch(t, h, y, v, y1, v1, c):
+        ends1 = _end_values(t1, y1, v1, c)
+        if _may_switch(h, ends0, ends1, c):
             s0, s1, piece = work[WORK_ROWS], work[WORK_ROWS + 1], work[WORK_ROWS + 2]
             trial, extremum, atol = work[WORK_ROWS + 3], work[WORK_ROWS + 4], work[WORK_ROWS + 5]
             s0[:] = 0.0
@@ -329,6 +329,7 @@ def fill_tape(carry, c_array, t_end, dt, tape, work):
                 t1 = t + theta * h
                 mode, _ = apply_switch(which, t1, piece, mode, c)
                 y1, v1 = piece[0], piece[1]
+                ends1 = _end_values(t1, y1, v1, c)
                 switches_in_step += 1
                 if switches_in_step > MAX_SWITCHES_PER_STEP:
                     status = STALLED
@@ -336,7 +337,6 @@ def fill_tape(carry, c_array, t_end, dt, tape, work):
         if t1 == target:
             k += 1
             switches_in_step = 0
-        ends1 = _end_values(t1, y1, v1, c)
         # The row, written here: a compiled call taking ``tape`` would count it.
         a = piece_coefficients(t, y, v, ends0, t1, y1, v1, ends1, c)
         p_min, p_max, n_crit, tau1, tau2, tau3 = _extremes(a)

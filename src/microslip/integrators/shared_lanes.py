@@ -26,7 +26,7 @@ loop also flags the lanes where a switch may lie inside the piece:
 
 A flagged lane is redone alone: every switching instant is the root of a function that
 is monotone on the piece's segments (P between its critical points; the speed between
-the zeros of its acceleration), bracketed there and found by bisection to a few ulps, so
+the zeros of its acceleration), bracketed there and found to 1e-12 of the piece, so
 no double crossing can hide and the located switching keeps the order of the normal
 RK4 integration (4: tests/validation/test_shared_normal_order.py). At a stop the lane
 sticks if |F| <= μ_s N there, else slides towards F (eq. 2.2).
@@ -53,7 +53,9 @@ from microslip.model.system import N_STATE
 
 TAPE_ROWS = 2048  # pieces integrated per call of the normal kernel (bounded memory)
 _BISECTIONS = 64
-_TAU_TOLERANCE = 1e-14  # of a piece: ~1e-19 s at the default step
+# Of a piece: ~3e-18 s at the default step (T0/200), far below the RK4 error; finer
+# buys nothing where P is flat to rounding near a crossing, and costs evaluations.
+_TAU_TOLERANCE = 1e-12
 
 # Status per group.
 OK = 0
@@ -90,28 +92,39 @@ def _root_value(kind, a, h, tau_a, v_a, s, fm, km, level, tau):
 
 
 @njit(cache=True)
-def _root(kind, a, h, tau_a, v_a, s, fm, km, level, lo, hi, f_lo, f_hi):
+def _root(kind, a, h, tau_a, v_a, s, fm, km, level, lo, hi, f_lo, f_hi, zero_above):
     """The crossing in [lo, hi] of a function monotone there (:func:`_root_value`),
-    with values ``f_lo``, ``f_hi`` at the ends: the returned τ is on the far side (value
-    <= 0 when coming from above, > 0 from below), within ~1e-14 of the crossing.
-    Secant start, Newton steps inside the bracket, bisection when one leaves it."""
-    lo_positive = f_lo > 0.0
+    with values ``f_lo``, ``f_hi`` at the ends: the returned τ is on the far side,
+    within _TAU_TOLERANCE of the crossing. A value counts as above zero when > 0, or == 0 if
+    ``zero_above``: the far side of a descent is then strictly below zero.
+    Secant start, Newton steps inside the bracket, bisection when one leaves it or
+    when a probe past a converged Newton root fails to close the bracket (a function
+    flat to rounding there)."""
+    lo_above = f_lo > 0.0 or (zero_above and f_lo == 0.0)
     tau = lo + (hi - lo) * f_lo / (f_lo - f_hi) if f_lo != f_hi else 0.5 * (lo + hi)
+    probe = 0.0  # > 0 once Newton converged: the distance of the next probe
     for _ in range(_BISECTIONS):
         if hi - lo <= _TAU_TOLERANCE:
             break
         if not (lo < tau < hi):
             tau = 0.5 * (lo + hi)
         value, rate = _root_value(kind, a, h, tau_a, v_a, s, fm, km, level, tau)
-        if (value > 0.0) == lo_positive:
+        above = value > 0.0 or (zero_above and value == 0.0)
+        if above == lo_above:
             lo = tau
         else:
             hi = tau
         step = value / rate if rate != 0.0 else 0.0
         newton = tau - step
-        if rate != 0.0 and abs(step) <= 0.25 * _TAU_TOLERANCE:
+        if probe > 0.0:
+            # The probe did not close the bracket (the function is flat to rounding
+            # there): probe twice as far, bisect once the bracket is that small.
+            probe *= 2.0
+            tau = tau + (probe if above == lo_above else -probe)
+        elif rate != 0.0 and abs(step) <= 0.25 * _TAU_TOLERANCE:
             # Converged: probe just past the root to close the bracket from the far side.
-            tau = newton + (0.5 if (value > 0.0) == lo_positive else -0.5) * _TAU_TOLERANCE
+            probe = 0.5 * _TAU_TOLERANCE
+            tau = newton + (probe if above == lo_above else -probe)
         elif rate != 0.0 and lo < newton < hi:
             tau = newton
         else:
@@ -147,10 +160,7 @@ def _first_below(a, crit, tau_a, level):
             return lo
         f_hi = nt.poly(a, hi) - level
         if f_hi < 0.0:
-            tau = _root(0, a, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, level, lo, hi, f_lo, f_hi)
-            while nt.poly(a, tau) >= level and tau < hi:  # make it strict
-                tau = min(hi, tau + _TAU_TOLERANCE)
-            return tau
+            return _root(0, a, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, level, lo, hi, f_lo, f_hi, True)
     return 2.0
 
 
@@ -170,7 +180,9 @@ def _first_stop(a, crit, h, tau_a, v_a, s, fm, km, level):
         p_lo = nt.poly(a, seg_lo) - level
         p_hi = nt.poly(a, seg_hi) - level
         if (p_lo > 0.0) != (p_hi > 0.0):
-            split = _root(0, a, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, level, seg_lo, seg_hi, p_lo, p_hi)
+            split = _root(
+                0, a, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, level, seg_lo, seg_hi, p_lo, p_hi, False
+            )
         for part in range(2):
             lo = seg_lo if part == 0 else split
             hi = split if part == 0 else seg_hi
@@ -184,7 +196,7 @@ def _first_stop(a, crit, h, tau_a, v_a, s, fm, km, level):
                 if lo > tau_a:
                     return lo
                 w_lo = 1e-300  # starts at rest (a release): the speed must first rise
-            return _root(1, a, h, tau_a, v_a, s, fm, km, 0.0, lo, hi, w_lo, w_hi)
+            return _root(1, a, h, tau_a, v_a, s, fm, km, 0.0, lo, hi, w_lo, w_hi, False)
     return 2.0
 
 
@@ -229,8 +241,10 @@ LANE_ROWS = 9
 @njit(cache=True, error_model="numpy")
 def _vector_pass(lanes, n_range, h, h_int, h2_kint, p_min, p_max):
     """A piece for lanes [0, n_range) as if it held no switch: branch-free, vectorised.
-    A lane where a switch may lie inside (module doc) is flagged and keeps its state."""
+    A lane where a switch may lie inside (module doc) is flagged and keeps its state.
+    Returns the number of flagged lanes."""
     h2_half = 0.5 * h * h
+    n_flagged = 0
     for i in range(n_range):
         s = lanes[MODE, i]
         active = s * s
@@ -250,6 +264,8 @@ def _vector_pass(lanes, n_range, h, h_int, h2_kint, p_min, p_max):
         lanes[FLAG, i] = 1.0 if f else 0.0
         lanes[X, i] = xi if f else x1
         lanes[V, i] = vi if f else v1
+        n_flagged += 1 if f else 0
+    return n_flagged
 
 
 @njit(cache=True)
@@ -286,14 +302,17 @@ def _run_group(c, y0, ydot0, t_end, dt, lanes, switches, flagged):
                 else:
                     hi = mid
             n_range = max(n_active, lo)
-            _vector_pass(
+            n_flagged = _vector_pass(
                 lanes, n_range, h, h * tape[r, nt.INT1], h * h * tape[r, nt.KINT1], p_min,
                 tape[r, nt.PMAX],
             )  # fmt: skip
             a = nt.coefficients(tape, r)
             crit = nt.critical_points(tape, r)
             for i in range(n_range):
+                if n_flagged == 0:  # the rest of the lanes went through the vector pass
+                    break
                 if lanes[FLAG, i] != 0.0:
+                    n_flagged -= 1
                     flagged[i] += 1
                     xi, vi, mi, k = _lane_piece(
                         a, crit, h, lanes[FM, i], lanes[KM, i], lanes[N_RELEASE, i],

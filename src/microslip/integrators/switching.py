@@ -46,7 +46,14 @@ from microslip.model.system import (
     switching_value,
 )
 
-__all__ = ["EVENT_NAMES", "NO_SWITCH", "first_switch", "locate", "may_switch"]
+__all__ = [
+    "EVENT_NAMES",
+    "NO_SWITCH",
+    "first_switch",
+    "locate",
+    "may_switch",
+    "two_sided_may_flip",
+]
 
 NO_SWITCH = 2.0  # θ returned when a step holds no switch
 _EPS = 2.220446049250313e-16
@@ -157,11 +164,31 @@ def _screen(which, t, h, mode, c, x0, x1):
     if not towards * r0 < 0.0:
         return _CLEAR, g0, g1, r0, 0.0
     r1 = switching_rate(which, t + h, x1, mode, c)
+    if _extremum_may_cross(towards, g0, g1, r0, r1, h):
+        return _EXTREMUM, g0, g1, r0, r1
+    return _CLEAR, g0, g1, r0, r1
+
+
+@njit(cache=True, inline="always")
+def _extremum_may_cross(towards, g0, g1, r0, r1, h):
+    """For g heading towards zero at the step start (towards·ġ0 < 0): True when ġ has
+    turned by the step end and the linear-rate bound lets the extremum reach zero."""
     if not towards * r1 > 0.0:
-        return _CLEAR, g0, g1, r0, r1
-    if min(abs(g0), abs(g1)) > _BOUND_SAFETY * h * (abs(r0) + abs(r1)):
-        return _CLEAR, g0, g1, r0, r1
-    return _EXTREMUM, g0, g1, r0, r1
+        return False
+    return not min(abs(g0), abs(g1)) > _BOUND_SAFETY * h * (abs(r0) + abs(r1))
+
+
+@njit(cache=True, inline="always")
+def two_sided_may_flip(g0, g1, r0, r1, h):
+    """The screening of a two-sided switching function (CONTACT_GAP, SEPARATION: inside
+    iff g > 0) from its values g0, g1 and rates ġ0, ġ1 at the ends of a step of length
+    h [s]: True where :func:`_screen` would not clear the step. For a caller that has
+    all four already (the normal tape)."""
+    in0 = g0 > 0.0
+    if (g1 > 0.0) != in0:
+        return True
+    towards = 1.0 if in0 else -1.0
+    return towards * r0 < 0.0 and _extremum_may_cross(towards, g0, g1, r0, r1, h)
 
 
 @njit(cache=True)

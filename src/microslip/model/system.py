@@ -81,6 +81,8 @@ __all__ = [
     "interface_samples",
     "is_paper_model",
     "normal_samples",
+    "separation_rate",
+    "separation_value",
     "state_array",
     "state_tuple",
     "switch_active",
@@ -251,11 +253,23 @@ def _derivatives_call(t, s, mode, c):
 
 
 @njit(cache=True, inline="always")
-def _separation_value(delta, delta_rate, c):
+def separation_value(delta, delta_rate, c):
+    """SEPARATION's value [N]: N_raw at (δ [m], δ̇ [m/s]) with the elastic part floored
+    (sign-floored, so that it is > 0 in contact)."""
     elastic = elastic_force(delta, c)
     if elastic < _ELASTIC_FLOOR:
         elastic = _ELASTIC_FLOOR
     return damped_force(elastic, delta_rate, c)
+
+
+@njit(cache=True, inline="always")
+def separation_rate(delta, delta_rate, delta_accel, c):
+    """SEPARATION's rate [N/s] along the motion, given δ [m], δ̇ [m/s], δ̈ [m/s^2]."""
+    elastic = elastic_force(delta, c)
+    if elastic < _ELASTIC_FLOOR:
+        elastic = _ELASTIC_FLOOR
+    d_delta, d_rate = damped_force_partials(elastic, elastic_stiffness(delta, c), delta_rate, c)
+    return d_delta * delta_rate + d_rate * delta_accel
 
 
 @njit(cache=True, inline="always")
@@ -348,7 +362,7 @@ def switching_value(which, t, s, mode, c):
         return gap(t, y, yd, c)[0]
     if which == SEPARATION:
         delta, delta_rate, _ = gap(t, y, yd, c)
-        return _separation_value(delta, delta_rate, c)
+        return separation_value(delta, delta_rate, c)
     if which == STICK_MARGIN:
         return friction_limit(_normal_force_call(t, y, yd, c), c) - abs(_held_force(t, s, c))
     return mode * _interface_velocity(t, s, mode, c)
@@ -363,12 +377,8 @@ def switching_rate(which, t, s, mode, c):
         return gap(t, y, yd, c)[1]
     if which == SEPARATION:
         delta, delta_rate, third = gap(t, y, yd, c)
-        elastic = elastic_force(delta, c)
-        if elastic < _ELASTIC_FLOOR:
-            elastic = _ELASTIC_FLOOR
-        d_delta, d_rate = damped_force_partials(elastic, elastic_stiffness(delta, c), delta_rate, c)
         delta_accel = third if is_prescribed(c) else _normal_acceleration_call(t, y, yd, c) - third
-        return d_delta * delta_rate + d_rate * delta_accel
+        return separation_rate(delta, delta_rate, delta_accel, c)
     if which == STICK_MARGIN:
         rate = friction_limit_rate(_normal_force_rate_call(t, y, yd, c), c)
         if is_compliant(c):
@@ -385,7 +395,7 @@ def switching_rate(which, t, s, mode, c):
 def in_contact(t, s, c):
     """True in contact: δ > 0 and N_raw > 0 (the separation function's sign)."""
     delta, delta_rate, _ = gap(t, s[Y], s[YDOT], c)
-    return delta > 0.0 and _separation_value(delta, delta_rate, c) > 0.0
+    return delta > 0.0 and separation_value(delta, delta_rate, c) > 0.0
 
 
 FLIGHT = 2.0  # |mode| of a compliant contact point in flight (its law until touchdown)
@@ -495,7 +505,7 @@ def apply_switch(which, t, s, mode, c):
     if which == CONTACT_GAP or which == SEPARATION:
         delta, delta_rate, _ = gap(t, s[Y], s[YDOT], c)
         gap_in = delta > 0.0
-        sep_in = _separation_value(delta, delta_rate, c) > 0.0
+        sep_in = separation_value(delta, delta_rate, c) > 0.0
         after = gap_in and sep_in
         if which == CONTACT_GAP:
             before = (not gap_in) and sep_in
