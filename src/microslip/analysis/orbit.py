@@ -58,6 +58,8 @@ O_HALF = 4  # half period T/2 [s]
 O_BOTTOM = 5  # y at the lowest point [m]
 O_SIZE = 6
 
+_F_NOISE = 4.0 * 2.220446049250313e-16  # rounding of a root function, per unit of its terms
+
 
 @njit(cache=True)
 def static_deflection(c):
@@ -240,6 +242,10 @@ def interval_root(k, s, s_lo, s_hi, w_y, w_v, gamma, const, tol, ys, yds, ydds, 
             s_lo = s
         else:
             s_hi = s
+        # f at the rounding of its terms: s is as good as f can tell (Newton would only
+        # creep on in steps of that noise, ~1e-11 of the interval near a turning point).
+        if abs(f) <= _F_NOISE * (abs(w_y * y) + abs(w_v * yd) + abs(gamma * s) + abs(const)):
+            break
         slope = w_y * yd * h + gamma
         if w_v != 0.0:
             slope += w_v * h * _hermite_curvature(y_a, v_a, a_a, y_b, v_b, a_b, h, s)
