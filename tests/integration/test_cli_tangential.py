@@ -1,6 +1,7 @@
 """The tangential side on the command line: --tangential, --friction and --drive (and their
 TOML tables) in simulate and info; --force against a drive; map, sweep and response refuse
-a tangential side other than the paper's in one line (exit 2) before computing.
+a tangential side other than the paper's in one line (exit 2) before computing, but for a
+compliant contact in a time sweep (--method time), the rk4 runs of simulate.
 
 The trajectories are checked against closed forms of the drives (F of a harmonic drive
 and of a drive spring, x = v t of a prescribed velocity), the linear contact spring
@@ -134,7 +135,7 @@ def test_the_tangential_tables_of_a_config_file(capsys, tmp_path):
         (["simulate", "--drive-force", "0.3", *RUN], ["--drive-force", "not given"]),
         (["map", *COMPLIANT, "--force", "0.1:0.5:3", "--amplitude", "1e-7", "--out", "m.nc"],
          ["--tangential: microslip map does not support tangential=TangentialSpring",
-          "microslip simulate", "microslip friction"]),
+          "--method time", "microslip simulate", "microslip friction"]),
         (["map", "--drive", "constant-force", "--drive-force", "0.3", "--force", "0.1:0.5:3",
           "--amplitude", "1e-7", "--out", "m.nc"], ["--drive:", "drive=ConstantForce"]),
         (["sweep", *STATIC_KINETIC, "--param", "m2=1.5,2", "--force", "0.3",
@@ -169,6 +170,41 @@ def test_map_with_the_paper_kinds_named_is_the_papers_map(capsys, tmp_path):
     with xr.open_dataset(tmp_path / "paper.nc") as a, xr.open_dataset(tmp_path / "named.nc") as b:
         np.testing.assert_array_equal(a["mean_velocity"].values, b["mean_velocity"].values)
         assert np.any(a["mean_velocity"].values > 0.0)
+
+
+def test_time_sweep_of_a_compliant_contact_is_simulate_rk4(capsys, tmp_path):
+    """--method time takes a compliant contact: each point is the rk4 run of simulate
+    from the paper's initial state, x(T)/T bit for bit, at the step of the faster of the
+    normal and tangential oscillations (k_t = 4 K_n: the tangential one)."""
+    stiffness = 4.0 * P.contact_stiffness
+    out = tmp_path / "compliant.nc"
+    flags = [
+        "--tangential",
+        "spring",
+        "--tangential-stiffness",
+        str(stiffness),
+        "--force",
+        "0.2,0.6",
+        "--amplitude",
+        "1e-7,2.5e-7",
+        "--method",
+        "time",
+        "--duration",
+        "0.004",
+    ]
+    status, _, err = run(capsys, "sweep", *flags, "--quiet", "--out", out)  # fmt: skip
+    assert status == 0, err
+    model = ms.Model(P, tangential=ms.TangentialSpring(stiffness))
+    dt = 2.0 * np.pi * np.sqrt(P.mass / stiffness) / 200
+    with xr.open_dataset(out) as ds:
+        v = ds["mean_velocity"]
+        assert ds.attrs["tangential"] == "TangentialSpring"
+        for force in (0.2, 0.6):
+            for amplitude in (1e-7, 2.5e-7):
+                r = ms.simulate(model, force=force, amplitude=amplitude, duration=0.004,
+                                method="rk4", dt=dt)  # fmt: skip
+                assert float(v.sel(force=force, amplitude=amplitude)) == r.x[-1] / 0.004
+        assert float(v.max()) > 0.0
 
 
 def test_info_shows_the_tangential_parts_with_units(capsys):

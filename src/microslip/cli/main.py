@@ -206,7 +206,10 @@ def _add_sweeps(sub) -> None:
             )
         p.add_argument("--out", help="result file (.nc or .zarr); resumable")
         p.add_argument("--plot", help="draw the map (.png/.pdf/.svg)")
-        p.add_argument("--method", choices=("steady", "time"), help="steady (default) or time")
+        p.add_argument(
+            "--method", choices=("steady", "time"),
+            help="steady (default) or time (also takes --tangential spring or mindlin)",
+        )  # fmt: skip
         p.add_argument("--duration", type=finite, help="time method: span [s]")
         p.add_argument("--dt", type=finite, help="time method: RK4 step [s]")
         p.add_argument("--scheduler", help="Dask scheduler address tcp://HOST:PORT")

@@ -349,16 +349,20 @@ def _located(error: ValueError, origins: Mapping[str, str]) -> CliError:
 
 
 def require_paper_tangential(
-    model: Model, parts: Mapping[str, PartChoice], command: str, instead: str
+    model: Model,
+    parts: Mapping[str, PartChoice],
+    command: str,
+    instead: str,
+    allowed: Mapping[str, tuple] | None = None,
 ) -> None:
     """Refuse a model whose tangential side is not the paper's (rigid contact, Coulomb
-    friction, the command's own constant force) for the commands that compute with the
-    paper's constant force; one line naming where the part came from
-    (:func:`microslip.model.capabilities.require`)."""
+    friction, the command's own constant force), but for the parts ``allowed`` by slot,
+    for the commands that compute with the paper's constant force; one line naming where
+    the part came from (:func:`microslip.model.capabilities.require`)."""
     from microslip.model.capabilities import TANGENTIAL_SLOTS, UnsupportedModelError, require
 
     try:
-        require(model, f"microslip {command}", allowed={}, instead=instead)
+        require(model, f"microslip {command}", allowed=dict(allowed or {}), instead=instead)
     except UnsupportedModelError as error:
         where = next(
             (parts[s].kind_origin for s in TANGENTIAL_SLOTS if not model.paper_choice(s)), None

@@ -19,10 +19,11 @@ from microslip.cli.options import CliError, Options, gather, refuse_underscores
 
 #: Why map and sweep refuse a tangential part other than the paper's.
 SWEEP_INSTEAD = (
-    "map and sweep compute the steady mean velocity under the constant forces of --force on "
-    "a rigid contact with Coulomb friction (the paper's Sec. 4): leave out --tangential, "
-    "--friction and --drive, or use `microslip simulate` (any tangential part) or "
-    "`microslip friction` (effective friction under a prescribed velocity)"
+    "map and sweep compute the mean velocity under the constant forces of --force with "
+    "Coulomb friction, on a rigid contact (the paper's Sec. 4) or, with --method time, a "
+    "compliant one (--tangential spring or mindlin): leave out --friction and --drive, or "
+    "use `microslip simulate` (any tangential part) or `microslip friction` (effective "
+    "friction under a prescribed velocity)"
 )
 
 
@@ -75,6 +76,7 @@ def cmd_sweep(args: argparse.Namespace) -> int:
     )
     from microslip.io.ranges import parse_values
     from microslip.sweeps import SweepSpec, run_sweep
+    from microslip.sweeps.spec import TIME_TANGENTIAL
     from microslip.sweeps.store import exclusive_lock, remove_store
 
     opts = gather(args, args.command)
@@ -85,14 +87,17 @@ def cmd_sweep(args: argparse.Namespace) -> int:
         {name: (float(values[0]), f"{opts.flag('param')} {name}=...")
          for name, values in axes.items() if "." in name}
     )  # fmt: skip
-    require_paper_tangential(model, opts.parts, args.command, instead=SWEEP_INSTEAD)
+    method = _check_method(opts, ("steady", "time"), "steady")
+    require_paper_tangential(
+        model, opts.parts, args.command, instead=SWEEP_INSTEAD,
+        allowed={"tangential": TIME_TANGENTIAL} if method == "time" else {},
+    )  # fmt: skip
     forced = model.excitation is not None
     if forced and args.command == "map":
         raise CliError(
             "map draws v(F, A) of the free normal vibration; with an excitation use "
             "`microslip sweep --param excitation.frequency=... --force ...`"
         )
-    method = _check_method(opts, ("steady", "time"), "steady")
     if method == "steady":
         for name in ("duration", "dt"):
             opts.refuse(name, "with --method steady (the exact steady state has no time step)")

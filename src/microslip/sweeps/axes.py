@@ -2,7 +2,9 @@
 
 Fields of :class:`Parameters` are checked vectorised on the grid of the Parameters axes (as
 the constructor checks them); fields of parts (dotted names, "damping.ratio") by building
-the :class:`Model`, whose own one-line message names the field and the value.
+the :class:`Model`, whose own one-line message names the field and the value. The grid
+quantities the work estimate needs (the period a time step resolves) are computed here
+too, vectorised over the same grid.
 """
 
 from __future__ import annotations
@@ -17,6 +19,7 @@ import numpy as np
 from microslip import validation as check
 from microslip.model.composition import Model
 from microslip.model.parameters import FIELD_RANGES, Parameters, derived_log10
+from microslip.model.tangential import MindlinSpring, TangentialSpring
 from microslip.validation import MAX_AXIS_VALUES
 
 # Values of part axes (dotted names) are checked by building the Model, once per value and
@@ -102,3 +105,38 @@ def grid_logs(base: Parameters, param_axes) -> dict[str, np.ndarray]:
     logs = {name: np.broadcast_to(value, shape) for name, value in logs.items()}
     logs["mg"] = np.broadcast_to(np.log10(grid["mass"]) + np.log10(grid["g"]), shape)
     return logs
+
+
+def _axis_grid(model: Model, param_axes, name: str, shape: tuple[int, ...]) -> np.ndarray:
+    """Part field ``name`` ("slot.field") of every parameter set, broadcast to ``shape``."""
+    slot, field = name.split(".", 1)
+    value = np.asarray(float(getattr(getattr(model, slot), field)))
+    for axis, (swept, values) in enumerate(param_axes):
+        if swept == name:
+            index = [1] * len(shape)
+            index[axis] = len(values)
+            value = np.asarray(values, dtype=float).reshape(index)
+    return np.broadcast_to(value, shape)
+
+
+def log_step_period(model: Model, param_axes) -> np.ndarray:
+    """log10 of the period [s] a time step must resolve, per parameter set: the shortest
+    of T0, the excitation period and the body's tangential oscillation on a compliant
+    contact (:func:`microslip.budget.shortest_period`, vectorised over the grid)."""
+    logs = grid_logs(model.params, param_axes)
+    shape = logs["T0"].shape
+    log_period = np.asarray(logs["T0"], dtype=float)
+    if model.excitation is not None:
+        frequency = _axis_grid(model, param_axes, "excitation.frequency", shape)
+        log_period = np.minimum(log_period, -np.log10(frequency))
+    two_pi = math.log10(2.0 * math.pi)
+    if isinstance(model.tangential, TangentialSpring):  # 2π sqrt(m / k_t)
+        stiffness = _axis_grid(model, param_axes, "tangential.stiffness", shape)
+        mass = field_grid(model.params, param_axes)["mass"]
+        log_period = np.minimum(log_period, two_pi + 0.5 * np.log10(mass / stiffness))
+    elif isinstance(model.tangential, MindlinSpring):  # k_t = λ m2 m g / y0
+        ratio = _axis_grid(model, param_axes, "tangential.ratio", shape)
+        grid = field_grid(model.params, param_axes)
+        log_tangential = two_pi + 0.5 * (logs["y0"] - np.log10(ratio * grid["m2"] * grid["g"]))
+        log_period = np.minimum(log_period, log_tangential)
+    return log_period

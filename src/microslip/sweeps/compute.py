@@ -20,6 +20,8 @@ def compute_chunk(spec: SweepSpec, key: ChunkKey) -> np.ndarray:
     Each point is computed independently of the chunking, so results are bit-identical
     however the sweep is split or distributed.
     """
+    if spec.method == "time" and spec.base.is_compliant:
+        return compliant_time_chunk(spec, key)
     if spec.forced:
         return forced_chunk(spec, key)
     if spec.base.damping is not None and spec.method == "steady":
@@ -32,7 +34,7 @@ def compute_chunk(spec: SweepSpec, key: ChunkKey) -> np.ndarray:
         if not mean_velocity_grid(forces, amplitudes, pack(params, 0.0), ORBIT_STEPS, out):
             raise RuntimeError(f"orbit table overflow in chunk {key}")
         return out
-    dt = spec.dt if spec.dt is not None else params.natural_period / DEFAULT_RK4_STEPS_PER_PERIOD
+    dt = _time_step(spec, spec.model_at(key))
     normal0 = np.array([initial_state_from_amplitude(params, a)[:2] for a in amplitudes])
     x = _shared_run([spec.model_at(key)] * amplitudes.size, normal0, forces, spec.duration, dt)
     return (x / spec.duration).T
@@ -40,8 +42,8 @@ def compute_chunk(spec: SweepSpec, key: ChunkKey) -> np.ndarray:
 
 def shares_runs(spec: SweepSpec) -> bool:
     """True when :func:`compute_chunks` computes several chunks in one run: a forced
-    model's time chunks, one normal set-up each."""
-    return spec.forced and spec.method == "time"
+    model's time chunks on the shared-normal kernel, one normal set-up each."""
+    return spec.forced and spec.method == "time" and not spec.base.is_compliant
 
 
 def compute_chunks(spec: SweepSpec, keys: list[ChunkKey]) -> list[np.ndarray]:
@@ -51,7 +53,7 @@ def compute_chunks(spec: SweepSpec, keys: list[ChunkKey]) -> list[np.ndarray]:
     if not shares_runs(spec):
         return [compute_chunk(spec, key) for key in keys]
     models = [spec.model_at(key) for key in keys]
-    steps = [_forced_time_step(spec, model) for model in models]
+    steps = [_time_step(spec, model) for model in models]
     blocks: list[np.ndarray | None] = [None] * len(keys)
     for dt in dict.fromkeys(steps):  # one run per step size, in first-seen order
         picked = [k for k, step in enumerate(steps) if step == dt]
@@ -62,9 +64,9 @@ def compute_chunks(spec: SweepSpec, keys: list[ChunkKey]) -> list[np.ndarray]:
     return blocks
 
 
-def _forced_time_step(spec: SweepSpec, model) -> float:
-    """The RK4 step [s] of a forced model's time run: ``spec.dt`` or 1/200 of the period
-    the step must resolve."""
+def _time_step(spec: SweepSpec, model) -> float:
+    """The RK4 step [s] of a time run: ``spec.dt`` or 1/200 of the period the step must
+    resolve (:meth:`SweepSpec.step_period`)."""
     if spec.dt is not None:
         return spec.dt
     return SweepSpec.step_period(model) / DEFAULT_RK4_STEPS_PER_PERIOD
@@ -121,6 +123,34 @@ def forced_chunk(spec: SweepSpec, key: ChunkKey) -> np.ndarray:
     return mean_velocities(table, model.params.mu, forces)[:, None]
 
 
+def compliant_time_chunk(spec: SweepSpec, key: ChunkKey) -> np.ndarray:
+    """x(T)/T [m/s] on the chunk's block for a compliant tangential contact, shape
+    (forces, amplitudes of the chunk; one for a forced model).
+
+    The shared-normal kernel has no lane law for a contact point on its spring, so every
+    (force, amplitude) is a trajectory of the batched RK4 kernel
+    (:func:`microslip.integrators.batched.simulate_batch`: ``simulate(method="rk4")``
+    bit for bit), from the initial state of ``simulate``: the paper's rest at the top
+    (free vibration) or rest at y0 (forced), a relaxed spring.
+    """
+    from microslip.integrators.batched import simulate_batch
+    from microslip.model.system import state_array
+
+    model = spec.model_at(key)
+    params = model.params
+    forces = np.asarray(spec.forces, dtype=float)
+    if spec.forced:
+        starts = [state_array(params.static_deflection, 0.0)]
+    else:
+        amplitudes = spec.amplitudes[spec.amplitude_slice(key)]
+        starts = [np.array(initial_state_from_amplitude(params, a)) for a in amplitudes]
+    states0 = np.repeat(np.array(starts), forces.size, axis=0)  # start-major, then force
+    coeffs = np.repeat(model.pack(0.0)[None, :], states0.shape[0], axis=0)
+    coeffs[:, FORCE] = np.tile(forces, len(starts))
+    result = simulate_batch(coeffs, states0, spec.duration, _time_step(spec, model))
+    return result.mean_velocity.reshape(len(starts), forces.size).T
+
+
 def _shared_run(models, normal0, forces, duration, dt) -> np.ndarray:
     """x(duration) [m], shape (set-ups, forces), from rest on each normal set-up (one
     model per row of ``normal0``: y [m], ẏ [m/s] at t = 0) under every constant force [N]."""
@@ -145,7 +175,7 @@ def _forced_run(spec, model, forces, duration, states0=None) -> np.ndarray:
     an earlier run (the excitation restarts at phase 0)."""
     from microslip.integrators.batched import simulate_batch
 
-    dt = _forced_time_step(spec, model)
+    dt = _time_step(spec, model)
     coeffs = np.repeat(model.pack(0.0)[None, :], forces.size, axis=0)
     coeffs[:, FORCE] = forces
     if states0 is None:

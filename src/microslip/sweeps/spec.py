@@ -27,7 +27,14 @@ from microslip.analysis.steady_state import TANGENTIAL_INSTEAD
 from microslip.model.capabilities import require
 from microslip.model.composition import Model, as_model
 from microslip.model.parameters import DERIVED_RANGES, Parameters
-from microslip.sweeps.axes import check_fields, check_part_axes, checked_axis, grid_logs
+from microslip.model.tangential import MindlinSpring, TangentialSpring
+from microslip.sweeps.axes import (
+    check_fields,
+    check_part_axes,
+    checked_axis,
+    grid_logs,
+    log_step_period,
+)
 from microslip.validation import DEFAULT_RK4_STEPS_PER_PERIOD
 
 METHODS = ("steady", "time")
@@ -35,10 +42,16 @@ DEFAULT_DURATION = 0.05  # [s], "time" method
 # Parameter combinations are checked on a dense grid; beyond this many it would not fit.
 MAX_PARAMETER_SETS = 10_000_000
 ChunkKey = tuple[int, ...]  # parameter-axis indices..., amplitude-chunk index
+# The tangential contacts of a time sweep (a compliant one runs on the batched kernel).
+TIME_TANGENTIAL = (None, TangentialSpring, MindlinSpring)
+SWEEP_INSTEAD = (
+    f"{TANGENTIAL_INSTEAD}; method='time' also takes a compliant tangential contact "
+    "(TangentialSpring, MindlinSpring)"
+)
 
 
 def _estimate(
-    base: Parameters,
+    model: Model,
     param_axes,
     n_forces: int,
     n_amplitudes: int,
@@ -53,9 +66,9 @@ def _estimate(
     if method == "time":
         if dt is not None:
             steps = np.full(1, float(math.ceil(duration / dt))) * n_sets
-        else:  # dt = T0/200 per set: steps = duration * 200 * f0
-            f0 = 10.0 ** grid_logs(base, param_axes)["f0"]
-            steps = np.ceil(duration * DEFAULT_RK4_STEPS_PER_PERIOD * f0).ravel()
+        else:  # dt = 1/200 of the period to resolve, per set
+            period = 10.0 ** log_step_period(model, param_axes)
+            steps = np.ceil(duration * DEFAULT_RK4_STEPS_PER_PERIOD / period).ravel()
         total_steps = float(np.sum(steps))
         lane_steps = total_steps * n_forces * n_amplitudes
         # Chunks: full ones of amplitude_chunk amplitudes and the remainder.
@@ -74,6 +87,7 @@ def _estimate(
         setup_steps=setup_steps,
         chunk_points=n_forces * amplitude_chunk,
         axis_values=values,
+        kernel="batched" if model.is_compliant else "shared",
     )
 
 
@@ -140,7 +154,9 @@ class SweepSpec:
         :meth:`check_budget` is made here too (None: left to :meth:`check_budget`).
         """
         model = as_model(model_or_params)
-        require(model, "sweep", allowed={}, instead=TANGENTIAL_INSTEAD)
+        method = check.one_of("method", method, METHODS)
+        allowed = {"tangential": TIME_TANGENTIAL} if method == "time" else {}
+        require(model, "sweep", allowed=allowed, instead=SWEEP_INSTEAD)
         params = model.params
         forced = model.excitation is not None
         if forced and amplitudes is not None:
@@ -150,7 +166,6 @@ class SweepSpec:
             )
         if not forced and amplitudes is None:
             raise ValueError("amplitude [m] is required for the free normal vibration")
-        method = check.one_of("method", method, METHODS)
         if axes is not None and not isinstance(axes, Mapping):
             raise ValueError(
                 "axes must be a mapping of model field -> values, e.g. {'mu': [0.1, 0.2]}; "
@@ -210,7 +225,7 @@ class SweepSpec:
         check_fields(params, arrays)
         check_part_axes(model, arrays)
         estimate = _estimate(
-            params, arrays, len(forces), len(amplitudes), method, duration, dt, amplitude_chunk
+            model, arrays, len(forces), len(amplitudes), method, duration, dt, amplitude_chunk
         )
         if allow_large is not None:
             budget.check(estimate, allow_large=allow_large)
@@ -272,8 +287,8 @@ class SweepSpec:
                 check.amplitude(self._params_at_index(worst_y0), max(self.amplitudes))
             except ValueError as error:
                 raise ValueError(f"{error}{self._where(worst_y0)}") from None
-        if self.method == "time" and self.forced:
-            self._check_forced_time()
+        if self.method == "time" and (self.forced or self.base.is_compliant):
+            self._check_time_by_set()
             return
         if self.method == "time":
             longest = np.unravel_index(np.argmax(logs["T0"]), logs["T0"].shape)
@@ -284,8 +299,8 @@ class SweepSpec:
             params = self._params_at_index(worst)
             check.rk4_step(self.dt, params.natural_period, where=self._where(worst))
 
-    def _check_forced_time(self) -> None:
-        """Duration and step against min(T0, excitation period) of every set."""
+    def _check_time_by_set(self) -> None:
+        """Duration against T0 and the step against :meth:`step_period` of every set."""
         shortest = (math.inf, ())
         longest = (0.0, ())
         for index in itertools.product(*(range(len(v)) for _, v in self.param_axes)):
@@ -298,16 +313,15 @@ class SweepSpec:
 
     @staticmethod
     def step_period(model: Model) -> float:
-        """The period an RK4 step must resolve [s]: T0, or the excitation's if shorter."""
-        period = model.params.natural_period
-        if model.excitation is not None:
-            period = min(period, model.excitation.period)
-        return period
+        """The period an RK4 step must resolve [s]: the shortest of T0, the excitation
+        period and the tangential oscillation on a compliant contact
+        (:func:`microslip.budget.shortest_period`)."""
+        return budget.shortest_period(model)
 
     def estimate(self) -> budget.Estimate:
         """Estimated work, run time [s] and memory [bytes] (:mod:`microslip.budget`)."""
         return _estimate(
-            self.base.params, self.param_axes, len(self.forces), len(self.amplitudes), self.method,
+            self.base, self.param_axes, len(self.forces), len(self.amplitudes), self.method,
             self.duration, self.dt, self.amplitude_chunk,
         )  # fmt: skip
 

@@ -1,0 +1,86 @@
+"""Time sweeps of a compliant tangential contact: what the spec accepts and refuses, and
+its work estimate, whose step count per parameter set must follow the shortest period
+the step resolves (T0, the excitation, the body's oscillation on k_t) as
+:func:`microslip.budget.shortest_period` gives it for each set's model."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+import microslip as ms
+from microslip.budget import shortest_period
+from microslip.sweeps import SweepSpec, sweep
+from microslip.validation import DEFAULT_RK4_STEPS_PER_PERIOD
+
+P = ms.Parameters()
+K_N = P.contact_stiffness
+DURATION = 0.01
+
+
+def _steps_by_set(spec: SweepSpec) -> float:
+    """Σ over the parameter sets of the grid steps at 1/200 of each set's own period,
+    from the scalar shortest_period of each set's model (an independent loop)."""
+    total = 0.0
+    shape = [len(values) for _, values in spec.param_axes]
+    for index in np.ndindex(*shape):
+        period = shortest_period(spec.model_at((*index, 0)))
+        total += math.ceil(DURATION * DEFAULT_RK4_STEPS_PER_PERIOD / period)
+    return total
+
+
+@pytest.mark.parametrize(
+    ("model", "axes", "amplitudes"),
+    [
+        # tangential period shorter than T0 for some stiffnesses and masses, not others
+        (ms.Model(P, tangential=ms.TangentialSpring(K_N)),
+         {"tangential.stiffness": [0.1 * K_N, 4.0 * K_N, 900.0 * K_N], "mass": [0.5, 3.0]},
+         [1e-7, 2e-7]),
+        (ms.Model(P, tangential=ms.MindlinSpring(0.8235)),
+         {"tangential.ratio": [0.01, 1.0, 9.0], "m2": [1.5, 2.0]}, [1e-7]),
+        # the excitation period, swept above and below f0, against a stiff spring
+        (ms.Model(P, tangential=ms.TangentialSpring(2.0 * K_N), damping=ms.Viscous(0.05),
+                  excitation=ms.HarmonicForce(2.0, 1000.0)),
+         {"excitation.frequency": [500.0, 1500.0, 6000.0]}, None),
+    ],
+)  # fmt: skip
+def test_work_counts_the_steps_of_each_sets_shortest_period(model, axes, amplitudes):
+    forces = [0.2, 0.5, 0.8]
+    spec = SweepSpec.build(model, axes, forces, amplitudes, method="time", duration=DURATION)
+    n_points = len(forces) * (1 if amplitudes is None else len(amplitudes))
+    assert spec.estimate().work == pytest.approx(n_points * _steps_by_set(spec), rel=1e-12)
+
+
+def test_a_stiff_spring_grid_is_refused_by_the_time_budget():
+    """k_t = 1e6 K_n: a period 1000 times shorter than T0; a grid that would take hours
+    is refused before computing, the estimate naming its run time."""
+    model = ms.Model(P, tangential=ms.TangentialSpring(1e6 * K_N))
+    with pytest.raises(ms.WorkLimitError, match="trajectory-steps"):
+        sweep(model, None, force=np.linspace(0.1, 0.9, 64), amplitude=np.linspace(0, 2e-7, 64),
+              method="time", duration=0.05)  # fmt: skip
+
+
+def test_steady_refuses_a_compliant_contact_and_names_the_time_method():
+    model = ms.Model(P, tangential=ms.TangentialSpring(K_N))
+    with pytest.raises(ms.UnsupportedModelError, match="method='time' also takes a compliant"):
+        sweep(model, None, force=[0.5], amplitude=[1e-7])
+
+
+@pytest.mark.parametrize(
+    "part",
+    [ms.StaticKinetic(0.15, 0.1), ms.SpringDrive(stiffness=1e6, velocity=1e-3)],
+    ids=["friction", "drive"],
+)
+def test_time_keeps_refusing_other_friction_laws_and_drives(part):
+    model = ms.Model(P, tangential=ms.TangentialSpring(K_N), **{part.slot: part})
+    with pytest.raises(ms.UnsupportedModelError, match=f"{part.slot}={type(part).__name__}"):
+        sweep(model, None, force=[0.5], amplitude=[1e-7], method="time", duration=DURATION)
+
+
+def test_a_user_step_is_checked_against_the_tangential_period():
+    model = ms.Model(P, tangential=ms.TangentialSpring(400.0 * K_N))  # period T0/20
+    with pytest.raises(ValueError, match=r"dt=.* is too large"):
+        sweep(model, None, force=[0.5], amplitude=[1e-7], method="time", duration=DURATION,
+              dt=P.natural_period / 50)  # fmt: skip
