@@ -213,6 +213,14 @@ def _contact_point_rates(t, s, mode, normal, c):
     return xdot - force_rate / stiffness, force_rate
 
 
+@njit(cache=True, error_model="numpy")
+def _contact_point_rates_call(t, s, mode, normal, c):
+    """:func:`_contact_point_rates` behind a compiled call, for the switching functions
+    (four copies of it, each with the tangential and friction laws inside, made
+    switching_rate's compile seconds longer)."""
+    return _contact_point_rates(t, s, mode, normal, c)
+
+
 @njit(cache=True, inline="always")
 def _body_acceleration(normal, t, s, mode, c):
     """ẍ [m/s^2] of the body in ``mode``."""
@@ -316,7 +324,8 @@ def _held_force(t, s, c):
 def _interface_velocity(t, s, mode, c):
     """Velocity [m/s] of the interface in ``mode``: ẋ (rigid) or u̇ (compliant)."""
     if is_compliant(c):
-        return _contact_point_rates(t, s, mode, _normal_force_call(t, s[Y], s[YDOT], c), c)[0]
+        normal = _normal_force_call(t, s[Y], s[YDOT], c)
+        return _contact_point_rates_call(t, s, mode, normal, c)[0]
     return s[XDOT]
 
 
@@ -341,10 +350,10 @@ def _contact_point_acceleration(t, s, mode, c):
         s[Y] - eps * d[0], s[YDOT] - eps * d[1], s[X] - eps * d[2],
         s[XDOT] - eps * d[3], s[U] - eps * d[4], s[FT] - eps * d[5],
     )  # fmt: skip
-    ahead = _contact_point_rates(
+    ahead = _contact_point_rates_call(
         t + eps, plus, mode, _normal_force_call(t + eps, plus[0], plus[1], c), c
     )
-    behind = _contact_point_rates(
+    behind = _contact_point_rates_call(
         t - eps, minus, mode, _normal_force_call(t - eps, minus[0], minus[1], c), c
     )
     return (ahead[0] - behind[0]) / (2.0 * eps)
@@ -382,7 +391,8 @@ def switching_rate(which, t, s, mode, c):
     if which == STICK_MARGIN:
         rate = friction_limit_rate(_normal_force_rate_call(t, y, yd, c), c)
         if is_compliant(c):
-            held_rate = _contact_point_rates(t, s, 0.0, _normal_force_call(t, y, yd, c), c)[1]
+            normal = _normal_force_call(t, y, yd, c)
+            held_rate = _contact_point_rates_call(t, s, 0.0, normal, c)[1]
         else:
             held_rate = drive_force_rate(t, s[X], s[XDOT], c)
         return rate - sign(_held_force(t, s, c)) * held_rate
