@@ -38,8 +38,8 @@ DISPATCHERS = {
     "first_switch": switching.first_switch,
     "piece_end": kernel.piece_end,
     "advance": methods.advance,
-    "_normal_force_call": system._normal_force_call,
-    "_normal_force_rate_call": system._normal_force_rate_call,
+    "normal_force_call": system.normal_force_call,
+    "normal_force_rate_call": system.normal_force_rate_call,
 }
 
 

@@ -48,6 +48,7 @@ from microslip.integrators.steppers import (
 )
 from microslip.model.coefficients import AREA_CN, EXPONENT, GRAVITY, MASS
 from microslip.model.normal import normal_acceleration
+from microslip.model.system import normal_acceleration_call
 
 # Summary slots of an orbit.
 O_TOP = 0  # y at the highest point [m]
@@ -90,36 +91,31 @@ def lowest_point(y_top, c):
     return y
 
 
-@njit(cache=True, error_model="numpy")
-def _acceleration(t, y, ydot, c):
-    """ÿ [m/s^2] behind a compiled call: inlined into the six stages, the composed normal
-    law made one compile of the table take ~7 s."""
-    return normal_acceleration(t, y, ydot, c)
-
-
 @njit(cache=True, inline="always")
 def _dp54(y, v, h, c):
     """One 5th-order Dormand–Prince step of (2.4) from (y [m], ẏ [m/s]) over h [s].
 
     The same arithmetic as the y, ẏ components of the general stepper, on the two normal
-    states only (the free normal motion is autonomous and does not depend on x).
+    states only (the free normal motion is autonomous and does not depend on x). The
+    stages call the acceleration through a compiled boundary: the composed law inlined
+    six times made one compile of the table take ~7 s instead of ~2 s.
     """
-    a1 = _acceleration(0.0, y, v, c)
+    a1 = normal_acceleration_call(0.0, y, v, c)
     y2 = y + h * (_A21 * v)
     v2 = v + h * (_A21 * a1)
-    a2 = _acceleration(0.0, y2, v2, c)
+    a2 = normal_acceleration_call(0.0, y2, v2, c)
     y3 = y + h * (_A31 * v + _A32 * v2)
     v3 = v + h * (_A31 * a1 + _A32 * a2)
-    a3 = _acceleration(0.0, y3, v3, c)
+    a3 = normal_acceleration_call(0.0, y3, v3, c)
     y4 = y + h * (_A41 * v + _A42 * v2 + _A43 * v3)
     v4 = v + h * (_A41 * a1 + _A42 * a2 + _A43 * a3)
-    a4 = _acceleration(0.0, y4, v4, c)
+    a4 = normal_acceleration_call(0.0, y4, v4, c)
     y5 = y + h * (_A51 * v + _A52 * v2 + _A53 * v3 + _A54 * v4)
     v5 = v + h * (_A51 * a1 + _A52 * a2 + _A53 * a3 + _A54 * a4)
-    a5 = _acceleration(0.0, y5, v5, c)
+    a5 = normal_acceleration_call(0.0, y5, v5, c)
     y6 = y + h * (_A61 * v + _A62 * v2 + _A63 * v3 + _A64 * v4 + _A65 * v5)
     v6 = v + h * (_A61 * a1 + _A62 * a2 + _A63 * a3 + _A64 * a4 + _A65 * a5)
-    a6 = _acceleration(0.0, y6, v6, c)
+    a6 = normal_acceleration_call(0.0, y6, v6, c)
     y_new = y + h * (_B1 * v + _B3 * v3 + _B4 * v4 + _B5 * v5 + _B6 * v6)
     v_new = v + h * (_B1 * a1 + _B3 * a3 + _B4 * a4 + _B5 * a5 + _B6 * a6)
     return y_new, v_new

@@ -80,6 +80,9 @@ __all__ = [
     "inside",
     "interface_samples",
     "is_paper_model",
+    "normal_acceleration_call",
+    "normal_force_call",
+    "normal_force_rate_call",
     "normal_samples",
     "separation_rate",
     "separation_value",
@@ -162,19 +165,19 @@ def is_paper_model(c):
 # are the same bits. The right-hand side (derivatives) keeps the laws inlined: it is the
 # steps' hot loop (docs/design.md, "The compiled form").
 @njit(cache=True, error_model="numpy")
-def _normal_force_call(t, y, ydot, c):
+def normal_force_call(t, y, ydot, c):
     """:func:`~microslip.model.normal.normal_force` [N] behind a compiled call."""
     return normal_force(t, y, ydot, c)
 
 
 @njit(cache=True, error_model="numpy")
-def _normal_force_rate_call(t, y, ydot, c):
+def normal_force_rate_call(t, y, ydot, c):
     """:func:`~microslip.model.normal.normal_force_rate` [N/s] behind a compiled call."""
     return normal_force_rate(t, y, ydot, c)
 
 
 @njit(cache=True, error_model="numpy")
-def _normal_acceleration_call(t, y, ydot, c):
+def normal_acceleration_call(t, y, ydot, c):
     """:func:`~microslip.model.normal.normal_acceleration` [m/s^2] behind a compiled call."""
     return normal_acceleration(t, y, ydot, c)
 
@@ -207,7 +210,7 @@ def _contact_point_rates(t, s, mode, normal, c):
     stiffness = tangential_stiffness(gap(t, y, ydot, c)[0], c)
     if mode == 0.0:
         return 0.0, stiffness * xdot
-    force_rate = mode * kinetic_coefficient(0.0, c) * _normal_force_rate_call(t, y, ydot, c)
+    force_rate = mode * kinetic_coefficient(0.0, c) * normal_force_rate_call(t, y, ydot, c)
     if stiffness <= 0.0:
         return xdot, force_rate
     return xdot - force_rate / stiffness, force_rate
@@ -324,7 +327,7 @@ def _held_force(t, s, c):
 def _interface_velocity(t, s, mode, c):
     """Velocity [m/s] of the interface in ``mode``: ẋ (rigid) or u̇ (compliant)."""
     if is_compliant(c):
-        normal = _normal_force_call(t, s[Y], s[YDOT], c)
+        normal = normal_force_call(t, s[Y], s[YDOT], c)
         return _contact_point_rates_call(t, s, mode, normal, c)[0]
     return s[XDOT]
 
@@ -351,10 +354,10 @@ def _contact_point_acceleration(t, s, mode, c):
         s[XDOT] - eps * d[3], s[U] - eps * d[4], s[FT] - eps * d[5],
     )  # fmt: skip
     ahead = _contact_point_rates_call(
-        t + eps, plus, mode, _normal_force_call(t + eps, plus[0], plus[1], c), c
+        t + eps, plus, mode, normal_force_call(t + eps, plus[0], plus[1], c), c
     )
     behind = _contact_point_rates_call(
-        t - eps, minus, mode, _normal_force_call(t - eps, minus[0], minus[1], c), c
+        t - eps, minus, mode, normal_force_call(t - eps, minus[0], minus[1], c), c
     )
     return (ahead[0] - behind[0]) / (2.0 * eps)
 
@@ -373,7 +376,7 @@ def switching_value(which, t, s, mode, c):
         delta, delta_rate, _ = gap(t, y, yd, c)
         return separation_value(delta, delta_rate, c)
     if which == STICK_MARGIN:
-        return friction_limit(_normal_force_call(t, y, yd, c), c) - abs(_held_force(t, s, c))
+        return friction_limit(normal_force_call(t, y, yd, c), c) - abs(_held_force(t, s, c))
     return mode * _interface_velocity(t, s, mode, c)
 
 
@@ -386,19 +389,19 @@ def switching_rate(which, t, s, mode, c):
         return gap(t, y, yd, c)[1]
     if which == SEPARATION:
         delta, delta_rate, third = gap(t, y, yd, c)
-        delta_accel = third if is_prescribed(c) else _normal_acceleration_call(t, y, yd, c) - third
+        delta_accel = third if is_prescribed(c) else normal_acceleration_call(t, y, yd, c) - third
         return separation_rate(delta, delta_rate, delta_accel, c)
     if which == STICK_MARGIN:
-        rate = friction_limit_rate(_normal_force_rate_call(t, y, yd, c), c)
+        rate = friction_limit_rate(normal_force_rate_call(t, y, yd, c), c)
         if is_compliant(c):
-            normal = _normal_force_call(t, y, yd, c)
+            normal = normal_force_call(t, y, yd, c)
             held_rate = _contact_point_rates_call(t, s, 0.0, normal, c)[1]
         else:
             held_rate = drive_force_rate(t, s[X], s[XDOT], c)
         return rate - sign(_held_force(t, s, c)) * held_rate
-    if is_compliant(c) and _normal_force_call(t, y, yd, c) > 0.0:
+    if is_compliant(c) and normal_force_call(t, y, yd, c) > 0.0:
         return mode * _contact_point_acceleration(t, s, mode, c)
-    return mode * _body_acceleration(_normal_force_call(t, y, yd, c), t, s, mode, c)
+    return mode * _body_acceleration(normal_force_call(t, y, yd, c), t, s, mode, c)
 
 
 @njit(cache=True)
@@ -436,7 +439,7 @@ def initial_mode(t, s, c):
     slip towards F. Compliant: stick iff |f| <= μ_s N, else slip towards f, with f set
     to the kinetic limit μ_k N (in place in ``s``); in flight the label sgn ẋ.
     """
-    normal = _normal_force_call(t, s[Y], s[YDOT], c)
+    normal = normal_force_call(t, s[Y], s[YDOT], c)
     if is_compliant(c):
         if normal <= 0.0:
             return _flight_mode(s)
@@ -466,10 +469,10 @@ def _touchdown_mode(t, s, c):
     touchdown (N = 0+) stick holds only if μ_s dN/dt >= k_t |ẋ|; otherwise the point
     slides with the body's direction on the limit f = μ_k N (= 0+).
     """
-    normal = _normal_force_call(t, s[Y], s[YDOT], c)
+    normal = normal_force_call(t, s[Y], s[YDOT], c)
     if friction_limit(normal, c) > _GRAZING * c[MASS] * c[GRAVITY] or s[XDOT] == 0.0:
         return 0.0
-    limit_rate = friction_limit_rate(_normal_force_rate_call(t, s[Y], s[YDOT], c), c)
+    limit_rate = friction_limit_rate(normal_force_rate_call(t, s[Y], s[YDOT], c), c)
     loading = tangential_stiffness(gap(t, s[Y], s[YDOT], c)[0], c) * abs(s[XDOT])
     if limit_rate >= loading:
         return 0.0
@@ -481,7 +484,7 @@ def _touchdown_mode(t, s, c):
 @njit(cache=True)
 def _compliant_switch(which, t, s, mode, c):
     """(new mode, event) of a compliant contact point after a friction switch."""
-    normal = _normal_force_call(t, s[Y], s[YDOT], c)
+    normal = normal_force_call(t, s[Y], s[YDOT], c)
     if which == STICK_MARGIN:
         # Slip starts towards the spring force, which drops to the kinetic limit
         # (instantly: the contact point is massless). Where μ_s > μ_k and N falls the

@@ -117,8 +117,8 @@ def forced_chunk(spec: SweepSpec, key: ChunkKey) -> np.ndarray:
             stacklevel=2,
         )
         half = 0.5 * FALLBACK_PERIODS * model.excitation.period
-        states = _forced_run(spec, model, forces, half)
-        end = _forced_run(spec, model, forces, half, states0=states)
+        states = _batched_run(spec, model, forces, half).states
+        end = _batched_run(spec, model, forces, half, states0=states).states
         return ((end[:, 2] - states[:, 2]) / half)[:, None]
     return mean_velocities(table, model.params.mu, forces)[:, None]
 
@@ -133,21 +133,16 @@ def compliant_time_chunk(spec: SweepSpec, key: ChunkKey) -> np.ndarray:
     bit for bit), from the initial state of ``simulate``: the paper's rest at the top
     (free vibration) or rest at y0 (forced), a relaxed spring.
     """
-    from microslip.integrators.batched import simulate_batch
-    from microslip.model.system import state_array
-
     model = spec.model_at(key)
-    params = model.params
     forces = np.asarray(spec.forces, dtype=float)
     if spec.forced:
-        starts = [state_array(params.static_deflection, 0.0)]
-    else:
-        amplitudes = spec.amplitudes[spec.amplitude_slice(key)]
-        starts = [np.array(initial_state_from_amplitude(params, a)) for a in amplitudes]
-    states0 = np.repeat(np.array(starts), forces.size, axis=0)  # start-major, then force
-    coeffs = np.repeat(model.pack(0.0)[None, :], states0.shape[0], axis=0)
-    coeffs[:, FORCE] = np.tile(forces, len(starts))
-    result = simulate_batch(coeffs, states0, spec.duration, _time_step(spec, model))
+        result = _batched_run(spec, model, forces, spec.duration)  # from rest at y0
+        return result.mean_velocity[:, None]
+    amplitudes = spec.amplitudes[spec.amplitude_slice(key)]
+    starts = [initial_state_from_amplitude(model.params, a) for a in amplitudes]
+    states0 = np.repeat(np.array(starts), forces.size, axis=0)  # amplitude-major, then force
+    lanes = np.tile(forces, len(starts))
+    result = _batched_run(spec, model, lanes, spec.duration, states0=states0)
     return result.mean_velocity.reshape(len(starts), forces.size).T
 
 
@@ -168,8 +163,9 @@ def _shared_run(models, normal0, forces, duration, dt) -> np.ndarray:
     return x.reshape(n_setups, forces.size)
 
 
-def _forced_run(spec, model, forces, duration, states0=None) -> np.ndarray:
-    """Final states of a batched RK4 run (one lane per force) from rest at t = 0.
+def _batched_run(spec, model, forces, duration, states0=None):
+    """The batched RK4 run (:class:`~microslip.integrators.batched.BatchResult`), one lane
+    per force [N], from ``states0`` at t = 0 (default: rest at y0, a relaxed spring).
 
     ``duration`` must be a whole number of excitation periods when ``states0`` continues
     an earlier run (the excitation restarts at phase 0)."""
@@ -181,4 +177,4 @@ def _forced_run(spec, model, forces, duration, states0=None) -> np.ndarray:
     if states0 is None:
         states0 = np.zeros((forces.size, 4))
         states0[:, 0] = model.params.static_deflection
-    return simulate_batch(coeffs, states0, duration, dt).states
+    return simulate_batch(coeffs, states0, duration, dt)
