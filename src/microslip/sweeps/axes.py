@@ -83,19 +83,23 @@ def check_part_axes(model: Model, arrays: list[tuple[str, np.ndarray]]) -> None:
                     raise ValueError(f"{error}{f' at {where}' if where else ''}") from None
 
 
+def _on_grid(name: str, value: float, param_axes, shape: tuple[int, ...]) -> np.ndarray:
+    """Field ``name`` on the parameter grid of ``shape``: its swept values along its own
+    axis, or its one ``value`` everywhere."""
+    array = np.asarray(value, dtype=float)
+    for axis, (swept, values) in enumerate(param_axes):
+        if swept == name:
+            index = [1] * len(shape)
+            index[axis] = len(values)
+            array = np.asarray(values, dtype=float).reshape(index)
+    return np.broadcast_to(array, shape)
+
+
 def field_grid(base: Parameters, param_axes) -> dict[str, np.ndarray]:
     """Each Parameters field, broadcast to the parameter axes' shape."""
     shape = tuple(len(values) for _, values in param_axes)
-    grid = {}
-    for name in Parameters.field_names():
-        value = np.asarray(getattr(base, name), dtype=float)
-        for axis, (swept, values) in enumerate(param_axes):
-            if swept == name:
-                index = [1] * len(shape)
-                index[axis] = len(values)
-                value = np.asarray(values, dtype=float).reshape(index)
-        grid[name] = np.broadcast_to(value, shape)
-    return grid
+    return {name: _on_grid(name, getattr(base, name), param_axes, shape)
+            for name in Parameters.field_names()}  # fmt: skip
 
 
 def grid_logs(base: Parameters, param_axes) -> dict[str, np.ndarray]:
@@ -107,16 +111,10 @@ def grid_logs(base: Parameters, param_axes) -> dict[str, np.ndarray]:
     return logs
 
 
-def _axis_grid(model: Model, param_axes, name: str, shape: tuple[int, ...]) -> np.ndarray:
+def _part_grid(model: Model, param_axes, name: str, shape: tuple[int, ...]) -> np.ndarray:
     """Part field ``name`` ("slot.field") of every parameter set, broadcast to ``shape``."""
     slot, field = name.split(".", 1)
-    value = np.asarray(float(getattr(getattr(model, slot), field)))
-    for axis, (swept, values) in enumerate(param_axes):
-        if swept == name:
-            index = [1] * len(shape)
-            index[axis] = len(values)
-            value = np.asarray(values, dtype=float).reshape(index)
-    return np.broadcast_to(value, shape)
+    return _on_grid(name, getattr(getattr(model, slot), field), param_axes, shape)
 
 
 def log_step_period(model: Model, param_axes) -> np.ndarray:
@@ -127,15 +125,15 @@ def log_step_period(model: Model, param_axes) -> np.ndarray:
     shape = logs["T0"].shape
     log_period = np.asarray(logs["T0"], dtype=float)
     if model.excitation is not None:
-        frequency = _axis_grid(model, param_axes, "excitation.frequency", shape)
+        frequency = _part_grid(model, param_axes, "excitation.frequency", shape)
         log_period = np.minimum(log_period, -np.log10(frequency))
     two_pi = math.log10(2.0 * math.pi)
     if isinstance(model.tangential, TangentialSpring):  # 2π sqrt(m / k_t)
-        stiffness = _axis_grid(model, param_axes, "tangential.stiffness", shape)
+        stiffness = _part_grid(model, param_axes, "tangential.stiffness", shape)
         mass = field_grid(model.params, param_axes)["mass"]
         log_period = np.minimum(log_period, two_pi + 0.5 * np.log10(mass / stiffness))
     elif isinstance(model.tangential, MindlinSpring):  # k_t = λ m2 m g / y0
-        ratio = _axis_grid(model, param_axes, "tangential.ratio", shape)
+        ratio = _part_grid(model, param_axes, "tangential.ratio", shape)
         grid = field_grid(model.params, param_axes)
         log_tangential = two_pi + 0.5 * (logs["y0"] - np.log10(ratio * grid["m2"] * grid["g"]))
         log_period = np.minimum(log_period, log_tangential)
