@@ -6,6 +6,9 @@ import gc
 import os
 import re
 import signal
+import subprocess
+import sys
+import textwrap
 
 import pytest
 from cli_inprocess import MAP, SIM, run
@@ -234,3 +237,33 @@ def test_ctrl_c_inside_a_compile_prints_one_line_only(tmp_path, monkeypatch, cap
     one_line(status, err, 130, "interrupted")
     gc.collect()
     assert reported == []
+
+
+def test_the_console_script_leaves_without_freeing_what_an_interrupt_cut_off():
+    """An object cut off by Ctrl-C whose destructor crashes the process, as LLVM objects
+    of an interrupted compile were seen to (exit -11 instead of 130, on a cold kernel
+    cache): the console script prints its one line and leaves without freeing it. Fails
+    if anything frees the interrupted frames (the garbage collector, the end of the
+    except clause, interpreter shutdown)."""
+    script = textwrap.dedent(
+        """
+        import ctypes, sys
+        import microslip.cli.main as cli
+
+        class CrashesWhenFreed:
+            def __del__(self):
+                ctypes.string_at(0)  # a segfault
+
+        def command(args):
+            held = CrashesWhenFreed()
+            held.cycle = held
+            raise KeyboardInterrupt
+
+        cli.cmd_info = command
+        sys.argv = ["microslip", "info"]
+        cli.entry_point()
+        """
+    )
+    done = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True,
+                          timeout=300)  # fmt: skip
+    one_line(done.returncode, done.stderr, 130, "interrupted")

@@ -116,13 +116,24 @@ def ignore_unraisable(_unraisable) -> None:
     in ..." tracebacks would follow the one line already printed."""
 
 
-def release_quietly(error: BaseException) -> None:
-    """Free the frames of an interrupted command now, with those reports off.
+_KEPT: list[BaseException] = []  # interrupts whose frames are never freed (``keep``)
+
+
+def release_quietly(error: BaseException, *, keep: bool = False) -> None:
+    """Free the frames of an interrupted command now, with those reports off; or, with
+    ``keep``, never.
 
     The traceback of the interrupt holds the frames of the compile it cut short; freed at
     the end of the ``except`` clause, after the hooks of :func:`handling_signals` are
     gone, their half-built objects would print "Exception ignored" under the one line.
+    Freeing them can also crash the process: LLVM objects cut off mid-construction were
+    seen to segfault (exit -11 instead of 130, on a cold kernel cache). The console
+    script therefore keeps them (``keep``) and leaves with ``os._exit``, which frees
+    nothing; an in-process caller (tests) frees them here.
     """
+    if keep:
+        _KEPT.append(error)
+        return
     previous = sys.unraisablehook
     sys.unraisablehook = ignore_unraisable
     try:

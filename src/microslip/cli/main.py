@@ -329,8 +329,12 @@ def _warning_line(command: str):
     return show
 
 
-def main(argv: list[str] | None = None) -> int:
-    """Run the command line ``argv`` (default ``sys.argv[1:]``); returns the exit status."""
+def main(argv: list[str] | None = None, *, exiting: bool = False) -> int:
+    """Run the command line ``argv`` (default ``sys.argv[1:]``); returns the exit status.
+
+    ``exiting``: the caller ends the process at once with ``os._exit`` after an
+    interrupt (the console script), so the interrupted frames are kept, never freed
+    (:func:`~microslip.cli.interrupts.release_quietly`)."""
     debug = os.environ.get("MICROSLIP_DEBUG", "") not in ("", "0")
     command = "?"
     try:
@@ -363,12 +367,12 @@ def main(argv: list[str] | None = None) -> int:
         return 0
     except KeyboardInterrupt as interrupt:  # also SIGTERM (Terminated)
         status = _interrupted(command, interrupt)
-        release_quietly(interrupt)
+        release_quietly(interrupt, keep=exiting)
         return status
     except Exception as error:
         if RUN.signal is not None:  # an interrupt that native code swallowed, then failed
             status = _interrupted(command, interrupt_for(RUN.signal))
-            release_quietly(error)
+            release_quietly(error, keep=exiting)
             return status
         if debug:
             raise
@@ -399,12 +403,18 @@ def _late_signal(signum: int, frame) -> None:
 
 
 def entry_point() -> None:
-    status = main()
+    status = main(exiting=True)
     if status == 0:
         for sig in (signal.SIGINT, signal.SIGTERM):
             signal.signal(sig, _late_signal)
     elif status in (EXIT_INTERRUPTED, EXIT_TERMINATED):
-        sys.unraisablehook = ignore_unraisable  # and at shutdown
+        # The outputs are settled (committed or removed) and the line is printed; leave
+        # without freeing what an interrupted compile half-built (release_quietly).
+        sys.unraisablehook = ignore_unraisable
+        with contextlib.suppress(OSError, ValueError):
+            sys.stdout.flush()
+            sys.stderr.flush()
+        os._exit(status)
     sys.exit(status)
 
 
