@@ -317,11 +317,13 @@ def propagate(c, y_start, yd_start, t0, duration, n_steps, record, variational):
             t = t_new
             if not switched:
                 break
-            # Saltation for g = δ: S = [[1, 0], [(ÿ⁺ - ÿ⁻)/δ̇, 1]] (0 where ÿ is continuous).
-            before = _accel(t, s[0], s[1], c, contact)
-            contact = not contact
-            after = _accel(t, s[0], s[1], c, contact)
             summary[S_EVENTS] += 1.0
+            contact = not contact
+            if not variational:
+                continue
+            # Saltation for g = δ: S = [[1, 0], [(ÿ⁺ - ÿ⁻)/δ̇, 1]] (0 where ÿ is continuous).
+            before = _accel(t, s[0], s[1], c, not contact)
+            after = _accel(t, s[0], s[1], c, contact)
             delta_rate = gap(t, s[0], s[1], c)[1]
             if after != before and delta_rate != 0.0:
                 factor = (after - before) / delta_rate

@@ -37,7 +37,6 @@ from microslip.cli.interrupts import (
     RUN,
     Terminated,
     handling_signals,
-    ignore_unraisable,
     interrupt_for,
     release_quietly,
 )
@@ -394,12 +393,18 @@ def _error_text(error: Exception) -> str:
     )
 
 
-def _late_signal(signum: int, frame) -> None:
-    """Ctrl-C/SIGTERM after the command returned (while Python shuts down)."""
-    interrupt = Terminated() if signum == signal.SIGTERM else KeyboardInterrupt()
+def _leave_now(status: int) -> None:
+    """End the process with ``status`` at once: the streams flushed, nothing else run or
+    freed (no destructors, garbage collection or atexit handlers)."""
     with contextlib.suppress(OSError, ValueError):
         sys.stdout.flush()
-    os._exit(_interrupted(RUN.command, interrupt))
+        sys.stderr.flush()
+    os._exit(status)
+
+
+def _late_signal(signum: int, frame) -> None:
+    """Ctrl-C/SIGTERM after the command returned (while Python shuts down)."""
+    _leave_now(_interrupted(RUN.command, interrupt_for(signum)))
 
 
 def entry_point() -> None:
@@ -410,11 +415,7 @@ def entry_point() -> None:
     elif status in (EXIT_INTERRUPTED, EXIT_TERMINATED):
         # The outputs are settled (committed or removed) and the line is printed; leave
         # without freeing what an interrupted compile half-built (release_quietly).
-        sys.unraisablehook = ignore_unraisable
-        with contextlib.suppress(OSError, ValueError):
-            sys.stdout.flush()
-            sys.stderr.flush()
-        os._exit(status)
+        _leave_now(status)
     sys.exit(status)
 
 
