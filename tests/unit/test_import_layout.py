@@ -47,3 +47,20 @@ def test_public_names_resolve_lazily():
         assert getattr(microslip, name) is not None
     assert microslip.Parameters().natural_frequency > 0
     assert "simulate" in dir(microslip)
+
+
+def test_sweep_dataset_does_not_import_dask_array():
+    """xarray's duck-array probe imports dask.array (~0.35 s of the warm
+    import-to-first-result, benchmarks/README.md); the sweep Dataset skips it."""
+    code = (
+        "import sys, numpy as np, microslip as ms\n"
+        "from microslip.sweeps.spec import SweepSpec\n"
+        "from microslip.sweeps.dataset import sweep_dataset\n"
+        "spec = SweepSpec.build(ms.Parameters(), {'mu': [0.1, 0.2]}, [0.1, 0.5], [1e-7])\n"
+        "ds = sweep_dataset(spec, np.zeros(spec.shape))\n"
+        "assert list(ds.indexes) == ['mu', 'force', 'amplitude'], list(ds.indexes)\n"
+        "assert ds.force.attrs['units'] == 'N'\n"
+        "print('dask.array' in sys.modules)"
+    )
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
+    assert out.stdout.strip() == "False"

@@ -12,17 +12,23 @@ from microslip.metadata import cf_static_attributes
 from microslip.sweeps.spec import SweepSpec
 
 
+def _variable(dims, values, attrs: dict) -> xr.Variable:
+    """An xarray Variable of a NumPy array, built on xarray's fast path: the normal
+    path probes for a Dask array, and that probe imports dask.array (~0.35 s, a third
+    of the warm import-to-first-result time, benchmarks/README.md) though the values
+    here are always plain NumPy arrays."""
+    return xr.Variable(dims, np.asarray(values), attrs, fastpath=True)
+
+
 def sweep_dataset(spec: SweepSpec, values: np.ndarray) -> xr.Dataset:
     """Dataset with ``mean_velocity`` [m/s] and, for the free vibration, the no-sliding
     boundary ``motion_threshold`` [N]. A forced model's result has no amplitude axis."""
     coords = {
-        name: (name, np.asarray(vals), {"units": spec.base.unit(name), "long_name": name})
+        name: _variable(name, vals, {"units": spec.base.unit(name), "long_name": name})
         for name, vals in spec.param_axes
     }
-    coords["force"] = (
-        "force",
-        np.asarray(spec.forces),
-        {"units": "N", "long_name": "tangential force F"},
+    coords["force"] = _variable(
+        "force", spec.forces, {"units": "N", "long_name": "tangential force F"}
     )
     long_name = (
         "long-time mean sliding velocity (exact steady state)"
@@ -37,16 +43,16 @@ def sweep_dataset(spec: SweepSpec, values: np.ndarray) -> xr.Dataset:
         **spec.base.to_attrs(),
     }
     if spec.forced:
-        velocity = xr.Variable(
+        velocity = _variable(
             spec.result_dims, values[..., 0], {"units": "m s-1", "long_name": long_name}
         )
         return xr.Dataset({"mean_velocity": velocity}, coords=coords, attrs=attrs)
-    coords["amplitude"] = (
+    coords["amplitude"] = _variable(
         "amplitude",
-        np.asarray(spec.amplitudes),
+        spec.amplitudes,
         {"units": "m", "long_name": "normal vibration amplitude A = y0 - y_min"},
     )
-    velocity = xr.Variable(spec.dims, values, {"units": "m s-1", "long_name": long_name})
+    velocity = _variable(spec.dims, values, {"units": "m s-1", "long_name": long_name})
     threshold_dims = (*(name for name, _ in spec.param_axes), "amplitude")
     threshold = np.empty([len(v) for _, v in spec.param_axes] + [len(spec.amplitudes)])
     for index in np.ndindex(*threshold.shape[:-1]):
@@ -55,7 +61,7 @@ def sweep_dataset(spec: SweepSpec, values: np.ndarray) -> xr.Dataset:
     ds = xr.Dataset(
         {
             "mean_velocity": velocity,
-            "motion_threshold": (
+            "motion_threshold": _variable(
                 threshold_dims,
                 threshold,
                 {"units": "N", "long_name": "no-sliding boundary mu S c_n max(y0 - A, 0)^m2"},
