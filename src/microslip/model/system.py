@@ -485,6 +485,15 @@ def _touchdown_mode(t, s, c):
 def _compliant_switch(which, t, s, mode, c):
     """(new mode, event) of a compliant contact point after a friction switch."""
     normal = normal_force_call(t, s[Y], s[YDOT], c)
+    if normal <= 0.0:
+        # The friction functions are active only in contact (mode 0, ±1), so the contact
+        # ended at this very instant: N -> 0 makes the friction limit and, in slip, the
+        # rate u̇ = ẋ - ḟ/k_t jump, and their flip can be located an ulp before the
+        # contact function's. It is the loss of contact (else the spring would keep its
+        # extension through the flight and the loss would never be recorded).
+        s[FT] = 0.0
+        s[U] = s[X]
+        return _flight_mode(s), CONTACT_LOST
     if which == STICK_MARGIN:
         # Slip starts towards the spring force, which drops to the kinetic limit
         # (instantly: the contact point is massless). Where μ_s > μ_k and N falls the
@@ -494,8 +503,6 @@ def _compliant_switch(which, t, s, mode, c):
         if direction * _contact_point_rates(t, s, direction, normal, c)[0] <= 0.0:
             return 0.0, SLIP_START
         return direction, SLIP_START
-    if normal <= 0.0:  # in flight the body reversed: only the label changes
-        return -mode, NO_EVENT
     # The contact point comes to rest on the limit f = μ_k N sgn: it sticks (f can
     # only fall back inside the static limit, never reverse at once).
     s[FT] = mode * kinetic_coefficient(0.0, c) * normal
