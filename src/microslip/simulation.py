@@ -18,7 +18,7 @@ from microslip.model.composition import Model, as_model
 from microslip.model.contact import potential_energy
 from microslip.model.excitation import PrescribedPenetration
 from microslip.model.parameters import POSITION_LIMIT, Parameters
-from microslip.model.system import FT, XDOT, YDOT, U, X, Y, state_array
+from microslip.model.system import FT, XDOT, YDOT, U, X, Y, slip_directions, state_array
 from microslip.results import SimulationResult
 from microslip.validation import DEFAULT_RK4_STEPS_PER_PERIOD, RK4_MAX_STEP_FRACTION
 
@@ -325,7 +325,7 @@ def simulate(
         xdot=raw.states[:, XDOT],
         u=raw.states[:, U],
         spring_force=raw.states[:, FT],
-        direction=np.sign(raw.direction),  # a compliant point in flight: ±2 -> ±1
+        direction=slip_directions(raw.direction),
         event_t=raw.event_t,
         event_kind=raw.event_kind,
         event_states=raw.event_states,

@@ -78,6 +78,7 @@ from microslip.model.system import (
     apply_switch,
     full_states,
     initial_mode,
+    slip_directions,
     state_tuple,
 )
 
@@ -242,7 +243,7 @@ class BatchResult:
     ----------
     t_end : simulated time [s] (every trajectory starts at t = 0)
     states : (n, n_state) final states in the model's layout (y [m], ẏ [m/s], x [m], ẋ [m/s])
-    direction : (n,) final mode: today the sliding direction ±1, 0 for stick
+    direction : (n,) final slip direction of the interface: ±1, 0 for stick
     t_final : (n,) time each trajectory reached [s]: ``t_end``, or a rounding error past
         it when a switch was located there (as in the single-trajectory kernel)
     n_switches : (n,) number of switching instants (stick/slip, contact) per trajectory
@@ -351,7 +352,7 @@ def simulate_batch(
     return BatchResult(
         t_end=t_end,
         states=states,
-        direction=directions,
+        direction=slip_directions(directions),
         t_final=times,
         n_switches=switches,
         n_flagged=flagged,

@@ -30,6 +30,8 @@ normal set-up.
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 from numba import njit
 
@@ -52,8 +54,19 @@ from microslip.model.damping import can_separate_in_overlap
 from microslip.model.drive import KINEMATIC
 from microslip.model.excitation import is_prescribed
 from microslip.model.friction import COULOMB
-from microslip.model.normal import gap, normal_acceleration, raw_normal_force
-from microslip.model.system import apply_switch, separation_rate, separation_value
+from microslip.model.normal import (
+    acceleration_from_force,
+    gap,
+    normal_acceleration,
+    raw_normal_force,
+)
+from microslip.model.system import (
+    airborne,
+    apply_switch,
+    initial_mode,
+    separation_rate,
+    separation_value,
+)
 from microslip.model.tangential import RIGID
 
 # Columns of a tape row.
@@ -253,22 +266,31 @@ def start_tape(y0, ydot0):
     carry = np.zeros(CARRY)
     carry[C_Y] = y0
     carry[C_YDOT] = ydot0
-    carry[C_MODE] = 1.0  # the kinematic drive's direction: it never switches
+    carry[C_MODE] = math.nan  # set by the first fill_tape (it has the coefficients)
     return carry
 
 
+@njit(cache=True, inline="always")
+def _held_acceleration(t, y, v, c, flight):
+    """ÿ [m/s^2] at a stage: N = 0 in flight, else the law at the stage state."""
+    if flight:
+        return acceleration_from_force(t, 0.0, c)
+    return normal_acceleration(t, y, v, c)
+
+
 @njit(cache=True, error_model="numpy")
-def _rk4(t, h, y, v, a1, c):
+def _rk4(t, h, y, v, a1, c, flight):
     """One RK4 step of the normal motion alone: the arithmetic of
     :func:`~microslip.integrators.steppers.rk4_step` on the (y, ẏ) components; ``a1`` is
-    ÿ at the step start (from :func:`_end_values`)."""
+    ÿ at the step start (from :func:`_end_values`). In ``flight`` N = 0 at every stage
+    (the mode holds the contact: :func:`~microslip.model.system.derivatives`)."""
     hh = 0.5 * h
     y2, v2 = y + hh * v, v + hh * a1
-    a2 = normal_acceleration(t + hh, y2, v2, c)
+    a2 = _held_acceleration(t + hh, y2, v2, c, flight)
     y3, v3 = y + hh * v2, v + hh * a2
-    a3 = normal_acceleration(t + hh, y3, v3, c)
+    a3 = _held_acceleration(t + hh, y3, v3, c, flight)
     y4, v4 = y + h * v3, v + h * a3
-    a4 = normal_acceleration(t + h, y4, v4, c)
+    a4 = _held_acceleration(t + h, y4, v4, c, flight)
     w = h / 6.0
     return y + w * (v + 2.0 * v2 + 2.0 * v3 + v4), v + w * (a1 + 2.0 * a2 + 2.0 * a3 + a4)
 
@@ -300,6 +322,11 @@ def fill_tape(carry, c_array, t_end, dt, tape, work):
     t, y, v = carry[C_T], carry[C_Y], carry[C_YDOT]
     k = int(carry[C_K])
     mode = carry[C_MODE]
+    if mode != mode:  # the start: the kinematic drive's direction (+1, it never switches)
+        start = work[WORK_ROWS]
+        start[:] = 0.0
+        start[0], start[1], start[3] = y, v, 1.0
+        mode = initial_mode(t, start, c)
     ends0 = _end_values(t, y, v, c)
     rows = 0
     status = 0
@@ -310,7 +337,7 @@ def fill_tape(carry, c_array, t_end, dt, tape, work):
             break
         target, k = next_grid_point(t, 0.0, k, dt, t_end)
         h = target - t
-        y1, v1 = _rk4(t, h, y, v, ends0[0], c)
+        y1, v1 = _rk4(t, h, y, v, ends0[0], c, airborne(mode))
         t1 = target
         ends1 = _end_values(t1, y1, v1, c)
         if _may_switch(h, ends0, ends1, c):

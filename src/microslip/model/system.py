@@ -11,7 +11,11 @@ This is the only module that knows what the state variables mean. The integrator
   The interface is the body with a rigid tangential contact (sgn ẋ, eq. 2.2), the
   contact point with a compliant one (sgn u̇); a compliant contact point in flight has
   mode ±2 (its flight law, f = 0 and u̇ = ẋ, until the touchdown is applied: the law
-  never changes inside a trial step);
+  never changes inside a trial step). A rigid contact of a damped model carries its
+  flight as the mode + 4 (3, 4, 5). In flight the normal force is 0 over the whole step
+  (:func:`derivatives`), whatever the stage states: the contact is held, not read off
+  each stage, so a force jump at touchdown (Kelvin–Voigt: c δ̇) never enters the stages
+  of the step that locates it;
 * the coefficient vector ``c`` (:mod:`microslip.model.coefficients`);
 
 and call :func:`derivatives` within a mode, and the switching functions, which say when
@@ -71,6 +75,7 @@ __all__ = [
     "SEPARATION",
     "SLIDING_SPEED",
     "STICK_MARGIN",
+    "airborne",
     "apply_switch",
     "derivatives",
     "full_states",
@@ -86,6 +91,7 @@ __all__ = [
     "normal_samples",
     "separation_rate",
     "separation_value",
+    "slip_directions",
     "state_array",
     "state_tuple",
     "switch_active",
@@ -121,6 +127,31 @@ EVENT_NAMES = ("none", "contact_lost", "contact_made", "slip_start", "stick_star
 # Hunt–Crossley: sgn(1 + c δ̇/(m g))), so it is continuous at δ = 0 and flips only
 # where the body can actually separate or re-touch inside the overlap.
 _ELASTIC_FLOOR = 1e-200
+
+FLIGHT = 2.0  # |mode| of a compliant contact point in flight (its law until touchdown)
+# Added to the mode (0, ±1) of a rigid contact in flight when the model is damped. The
+# undamped laws are continuous at touchdown (N = S c_n δ^m2 -> 0), so there the stage
+# states decide, as in the paper's scheme and its vectorised pass.
+_AIRBORNE = 4.0
+
+
+@njit(cache=True, inline="always")
+def _tangential_mode(mode):
+    """The interface part of ``mode``: 0 (stick), ±1 (slip), ±2 (compliant flight)."""
+    return mode - _AIRBORNE if mode > 2.5 else mode
+
+
+@njit(cache=True, inline="always")
+def airborne(mode):
+    """True when ``mode`` holds the body out of contact (N = 0 over the step)."""
+    return mode > 2.5 or abs(mode) == FLIGHT
+
+
+def slip_directions(modes: np.ndarray) -> np.ndarray:
+    """The slip direction (-1, 0 = stick, +1) of recorded modes: a compliant contact
+    point in flight (±2) gives ±1, a rigid contact in flight its tangential mode."""
+    modes = np.asarray(modes, dtype=float)
+    return np.sign(np.where(modes > 2.5, modes - _AIRBORNE, modes))
 
 
 @njit(cache=True, inline="always")
@@ -187,10 +218,11 @@ def _body_slip_acceleration(normal, t, s, mode, c):
     """ẍ [m/s^2] of a body on a rigid contact sliding in ``mode`` = sgn ẋ (eqs. 2.2,
     2.5): m ẍ = F(t, x) - μ(|ẋ|) N sgn ẋ; 0 in stick (mode 0) and with the kinematic
     drive."""
-    if mode == 0.0 or is_kinematic(c):
+    direction = _tangential_mode(mode)
+    if direction == 0.0 or is_kinematic(c):
         return 0.0
     friction = kinetic_coefficient(s[XDOT], c) * normal
-    return (drive_force(t, s[X], c) - mode * friction) / c[MASS]
+    return (drive_force(t, s[X], c) - direction * friction) / c[MASS]
 
 
 @njit(cache=True, inline="always")
@@ -242,7 +274,7 @@ def derivatives(t, s, mode, c):
     tuple (:func:`state_tuple`) or array."""
     y = s[Y]
     yd = s[YDOT]
-    normal = normal_force(t, y, yd, c)
+    normal = 0.0 if airborne(mode) else normal_force(t, y, yd, c)
     if is_compliant(c):
         udot, fdot = _contact_point_rates(t, s, mode, normal, c)
     else:
@@ -290,9 +322,10 @@ def switch_active(which, mode, c):
         return True
     if which == SEPARATION:
         return can_separate_in_overlap(c)
+    direction = _tangential_mode(mode)
     if which == STICK_MARGIN:
-        return mode == 0.0
-    return mode == 1.0 or mode == -1.0
+        return direction == 0.0
+    return direction == 1.0 or direction == -1.0
 
 
 @njit(cache=True, inline="always")
@@ -377,7 +410,8 @@ def switching_value(which, t, s, mode, c):
         return separation_value(delta, delta_rate, c)
     if which == STICK_MARGIN:
         return friction_limit(normal_force_call(t, y, yd, c), c) - abs(_held_force(t, s, c))
-    return mode * _interface_velocity(t, s, mode, c)
+    direction = _tangential_mode(mode)
+    return direction * _interface_velocity(t, s, direction, c)
 
 
 @njit(cache=True, error_model="numpy")
@@ -401,7 +435,9 @@ def switching_rate(which, t, s, mode, c):
         return rate - sign(_held_force(t, s, c)) * held_rate
     if is_compliant(c) and normal_force_call(t, y, yd, c) > 0.0:
         return mode * _contact_point_acceleration(t, s, mode, c)
-    return mode * _body_acceleration(normal_force_call(t, y, yd, c), t, s, mode, c)
+    normal = 0.0 if airborne(mode) else normal_force_call(t, y, yd, c)
+    direction = _tangential_mode(mode)
+    return direction * _body_acceleration(normal, t, s, direction, c)
 
 
 @njit(cache=True)
@@ -409,9 +445,6 @@ def in_contact(t, s, c):
     """True in contact: δ > 0 and N_raw > 0 (the separation function's sign)."""
     delta, delta_rate, _ = gap(t, s[Y], s[YDOT], c)
     return delta > 0.0 and separation_value(delta, delta_rate, c) > 0.0
-
-
-FLIGHT = 2.0  # |mode| of a compliant contact point in flight (its law until touchdown)
 
 
 @njit(cache=True, inline="always")
@@ -436,8 +469,9 @@ def initial_mode(t, s, c):
     """Friction mode at a state (eq. 2.2): stick iff the held force is within μ_s N.
 
     Rigid contact: sgn ẋ when the body moves; otherwise stick iff |F| <= μ_s N, else
-    slip towards F. Compliant: stick iff |f| <= μ_s N, else slip towards f, with f set
-    to the kinetic limit μ_k N (in place in ``s``); in flight the label sgn ẋ.
+    slip towards F, + 4 in flight for a damped model (module doc). Compliant: stick iff
+    |f| <= μ_s N, else slip towards f, with f set to the kinetic limit μ_k N (in place in
+    ``s``); in flight the label ±2 (sgn ẋ).
     """
     normal = normal_force_call(t, s[Y], s[YDOT], c)
     if is_compliant(c):
@@ -448,6 +482,14 @@ def initial_mode(t, s, c):
         direction = sign(s[FT])
         _drop_to_kinetic_limit(t, s, direction, normal, c)
         return direction
+    offset = _AIRBORNE if can_separate_in_overlap(c) and not normal > 0.0 else 0.0
+    return _rigid_direction(t, s, normal, c) + offset
+
+
+@njit(cache=True, inline="always")
+def _rigid_direction(t, s, normal, c):
+    """Slip direction of a body on a rigid contact at a state (eq. 2.2): sgn ẋ when it
+    moves; at rest stick iff |F| <= μ_s N, else slip towards F."""
     if s[XDOT] != 0.0:
         return sign(s[XDOT])
     force = drive_force(t, s[X], c)
@@ -536,26 +578,29 @@ def apply_switch(which, t, s, mode, c):
                 s[FT] = 0.0
                 s[U] = s[X]
                 return _touchdown_mode(t, s, c), CONTACT_MADE
-            return mode, CONTACT_MADE
+            return _tangential_mode(mode), CONTACT_MADE
         if before and not after:
             if is_compliant(c):
                 s[FT] = 0.0
                 s[U] = s[X]
                 return _flight_mode(s), CONTACT_LOST
-            return mode, CONTACT_LOST
+            return mode + (_AIRBORNE if can_separate_in_overlap(c) else 0.0), CONTACT_LOST
         return mode, NO_EVENT
     if is_compliant(c):
         return _compliant_switch(which, t, s, mode, c)
+    # A rigid contact keeps its flight flag (the contact switches set it).
+    offset = _AIRBORNE if airborne(mode) else 0.0
     if which == STICK_MARGIN:
-        return sign(drive_force(t, s[X], c)), SLIP_START
+        return sign(drive_force(t, s[X], c)) + offset, SLIP_START
     # The slider has come to rest: ẋ = 0 exactly, then stick or slide on (2.2).
     s[XDOT] = 0.0
-    new_mode = initial_mode(t, s, c)
-    if new_mode == 0.0:
-        return 0.0, STICK_START
-    if new_mode == mode:
-        return new_mode, SLIP_START
-    return new_mode, SLIP_REVERSAL
+    normal = 0.0 if offset else normal_force_call(t, s[Y], s[YDOT], c)
+    direction = _rigid_direction(t, s, normal, c)
+    if direction == 0.0:
+        return offset, STICK_START
+    if direction == _tangential_mode(mode):
+        return direction + offset, SLIP_START
+    return direction + offset, SLIP_REVERSAL
 
 
 def state_array(
@@ -620,8 +665,9 @@ def interface_samples(t, states, modes, c):
         limit[k] = friction_limit(normal, c)
         if is_compliant(c):
             friction[k] = -s[FT]
-        elif modes[k] != 0.0:
-            friction[k] = -modes[k] * kinetic_coefficient(s[XDOT], c) * normal
+        elif _tangential_mode(modes[k]) != 0.0:
+            direction = _tangential_mode(modes[k])
+            friction[k] = -direction * kinetic_coefficient(s[XDOT], c) * normal
         else:
             friction[k] = -drive_force(t[k], s[X], c)
         drive[k] = -friction[k] if is_kinematic(c) else drive_force(t[k], s[X], c)
