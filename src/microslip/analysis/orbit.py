@@ -22,9 +22,8 @@ from numba import njit
 
 from microslip import _jit_cache  # noqa: F401  (registers the cache before any @njit)
 
-# The Dormand–Prince 5(4) tableau of the general stepper, shared: _dp54 below is its
-# arithmetic on the two normal states.
-from microslip.integrators.steppers import (
+# The Dormand–Prince 5(4) tableau: _dp54 below is its arithmetic on the two normal states.
+from microslip.integrators.dp54_tableau import (
     _A21,
     _A31,
     _A32,

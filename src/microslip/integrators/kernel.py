@@ -24,8 +24,8 @@ from numba.np.unsafe.ndarray import to_fixed_tuple
 
 from microslip import _jit_cache  # noqa: F401  (registers the cache before any @njit)
 from microslip.integrators.dop853 import dop853_step
-from microslip.integrators.methods import CONTROLLER_EXPONENT, DP54, RK4, WORK_ROWS, advance
-from microslip.integrators.steppers import dp54_step, rk4_step
+from microslip.integrators.methods import CONTROLLER_EXPONENT, RK4, WORK_ROWS, advance
+from microslip.integrators.steppers import rk4_step
 from microslip.integrators.switching import NO_SWITCH, first_switch, may_switch
 from microslip.model.coefficients import SIZE
 from microslip.model.system import NO_EVENT, apply_switch, state_tuple
@@ -160,8 +160,6 @@ def integrate_chunk(
         if method == RK4:
             rk4_step(s, t, h, mode, c, s1, work)
             err = 0.0
-        elif method == DP54:
-            err = dp54_step(s, t, h, mode, c, rtol, atol, s1, work)
         else:
             err = dop853_step(s, t, h, mode, c, rtol, atol, s1, work)
         if method != RK4 and not err <= 1.0:

@@ -7,18 +7,17 @@ from numba import njit
 
 from microslip import _jit_cache  # noqa: F401  (registers the cache before any @njit)
 from microslip.integrators.dop853 import dop853_step
-from microslip.integrators.steppers import WORK_ROWS, dp54_step, rk4_step
+from microslip.integrators.steppers import WORK_ROWS, rk4_step
 
-__all__ = ["CONTROLLER_EXPONENT", "DOP853", "DP54", "RK4", "WORK_ROWS", "advance"]
+__all__ = ["CONTROLLER_EXPONENT", "DOP853", "RK4", "WORK_ROWS", "advance"]
 
 # NumPy integers, not Python ones: numba types a module-level int passed to a jitted
 # function as a literal and compiles the callee once per value (docs/design.md).
 RK4 = np.int64(0)  # classical Runge–Kutta, fixed step (the paper's method)
-DP54 = np.int64(1)  # Dormand–Prince 5(4), adaptive (also the orbit tables' fixed-step 5th order)
-DOP853 = np.int64(2)  # Dormand–Prince 8(5,3), adaptive: the "event" method
+DOP853 = np.int64(1)  # Dormand–Prince 8(5,3), adaptive: the "event" method
 
 # Exponent of the step-size controller, -1/(order of the error estimate + 1).
-CONTROLLER_EXPONENT = (0.0, -1.0 / 5.0, -1.0 / 8.0)
+CONTROLLER_EXPONENT = (0.0, -1.0 / 8.0)
 
 
 @njit(cache=True)
@@ -35,6 +34,4 @@ def advance(method, s, t, h, mode, c, rtol, atol, out, work):
     if method == RK4:
         rk4_step(s, t, h, mode, c, out, work)
         return 0.0
-    if method == DP54:
-        return dp54_step(s, t, h, mode, c, rtol, atol, out, work)
     return dop853_step(s, t, h, mode, c, rtol, atol, out, work)
