@@ -117,6 +117,23 @@ def test_map_rows_are_curves_and_share_the_normal_motion(monkeypatch):
     np.testing.assert_allclose(stiff.v_tilde.values[2], 100.0 * stiff.v_tilde.values[0])
 
 
+def test_forced_map_rows_are_the_curves_bit_for_bit():
+    """A map over an excitation field integrates its orbits' first transients side by
+    side (normal_period.forced_transients); each row is still the curve alone."""
+    model = ms.Model(
+        P, damping=ms.Viscous(0.05), excitation=ms.HarmonicForce(2.0, 1400.0),
+        tangential=ms.TangentialSpring(7e7), drive=ms.PrescribedVelocity(1e-4),
+    )  # fmt: skip
+    amplitudes = [1.0, 2.5, 4.0]  # N: the last two lose contact
+    ds = ms.effective_friction_map(model, SPEEDS, "excitation.amplitude", amplitudes)
+    for j, amplitude in enumerate(amplitudes):
+        alone = model.replace(**{"excitation.amplitude": amplitude})
+        row = ms.effective_friction_curve(alone, SPEEDS)
+        np.testing.assert_array_equal(ds.mu_eff.values[j], row.mu_eff.values)
+        np.testing.assert_array_equal(ds.period.values[j], row.period.values)
+    assert np.all(ds.mu_eff.values[1:] < ds.mu_kinetic.values[1:])  # reduction where it flies
+
+
 def test_map_over_the_free_vibration_amplitude():
     model = ms.Model(P, tangential=ms.TangentialSpring(1e7), drive=ms.PrescribedVelocity(1e-4))
     amplitudes = np.array([0.0, 0.5, 1.5]) * Y0

@@ -10,7 +10,12 @@ import pytest
 
 import microslip as ms
 from microslip.analysis.forced_response import forced_response
-from microslip.analysis.periodic import NotPeriodOneError, orbit_state, periodic_orbit
+from microslip.analysis.periodic import (
+    NotPeriodOneError,
+    orbit_state,
+    periodic_orbit,
+    transient_states,
+)
 from microslip.model.normal import normal_acceleration
 
 P = ms.Parameters()
@@ -51,6 +56,24 @@ def test_orbit_contract():
     assert orbit.max_multiplier == pytest.approx(np.abs(orbit.multipliers).max())
     # det Φ = exp(-∫ (∂N/∂ẏ)/m dt) < 1 with damping.
     assert 0.0 < abs(np.prod(orbit.multipliers)) < 1.0
+
+
+def test_transients_side_by_side_give_the_same_orbits():
+    """transient_states integrates the first transients in parallel batches, one per
+    step count (two here: two frequencies); each orbit from it is the orbit alone, bit
+    for bit."""
+    models = [
+        FORCED,
+        FORCED.replace(**{"excitation.amplitude": 1.0}),
+        FORCED.replace(**{"excitation.frequency": 0.5 * F0}),
+    ]
+    states = transient_states(models)
+    for model, state in zip(models, states, strict=True):
+        alone = periodic_orbit(model)
+        batched = periodic_orbit(model, transient_state=state)
+        np.testing.assert_array_equal(batched.y0_state, alone.y0_state)
+        np.testing.assert_array_equal(batched.y, alone.y)
+        np.testing.assert_array_equal(batched.multipliers, alone.multipliers)
 
 
 def test_undamped_orbit_is_neutral():

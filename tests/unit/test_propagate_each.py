@@ -10,7 +10,13 @@ import numba
 import numpy as np
 
 import microslip as ms
-from microslip.analysis.normal_flow import S_SIZE, propagate, propagate_each
+from microslip.analysis.normal_flow import (
+    S_SIZE,
+    STATE_ONLY,
+    VARIATIONAL,
+    propagate,
+    propagate_each,
+)
 
 P = ms.Parameters()
 MODEL = ms.Model(P, damping=ms.Viscous(0.05), excitation=ms.HarmonicForce(12.0, 1400.0))
@@ -18,13 +24,15 @@ FREQUENCIES = np.array([900.0, 1400.0, 1400.0 * (1 + 1e-7), 2100.0])  # with los
 N_STEPS = 160
 
 
-def batch(rows: np.ndarray, record: bool):
+def batch(rows: np.ndarray, record: bool, variational=VARIATIONAL):
     cs = np.array([MODEL.replace(**{"excitation.frequency": f}).pack(0.0) for f in FREQUENCIES])
     starts = np.array([[P.static_deflection * (1 + 0.3 * k), 0.01 * k] for k in range(4)])
     periods = 1.0 / FREQUENCIES
     n = rows.size
     ends, phis, summaries = np.empty((n, 2)), np.empty((n, 2, 2)), np.empty((n, S_SIZE))
-    propagate_each(cs[rows], starts[rows], periods[rows], N_STEPS, record, ends, phis, summaries)
+    propagate_each(
+        cs[rows], starts[rows], periods[rows], N_STEPS, record, ends, phis, summaries, variational
+    )
     return (cs, starts, periods), (ends, phis, summaries)
 
 
@@ -63,3 +71,12 @@ def test_state_only_flow_has_the_bits_of_the_variational_one():
             np.testing.assert_array_equal(alone[k], full[k])
         assert np.isnan(alone[1]).all()
         assert np.isfinite(full[1]).all()
+
+
+def test_state_only_rows_skip_the_monodromy_with_the_same_states():
+    """The transients of forced orbits (periodic.transient_states) run without Φ."""
+    (cs, starts, periods), (ends, phis, _s) = batch(np.arange(4), False, STATE_ONLY)
+    assert np.isnan(phis).all()
+    for i in range(4):
+        end = propagate(cs[i], starts[i, 0], starts[i, 1], 0.0, periods[i], N_STEPS, False, True)[0]
+        np.testing.assert_array_equal(ends[i], end)

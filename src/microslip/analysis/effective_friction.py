@@ -240,15 +240,18 @@ def _exact_points(model: Model, cycle: NormalCycle, speeds: np.ndarray) -> dict[
     )  # fmt: skip
 
 
-def _points(model, speeds, amplitude, method, cache, options):
-    """(fields by name over ``speeds``, methods used, period [s]) for a kinematic model."""
+def _points(model, speeds, amplitude, method, cache, options, transients=None):
+    """(fields by name over ``speeds``, methods used, period [s]) for a kinematic model.
+    ``transients``: forced orbits' first transients by normal model
+    (:func:`normal_period.forced_transients`)."""
     from microslip.analysis.periodic import NotPeriodOneError
 
     if method != "time_average":
         key = (normal_period.normal_model(model), amplitude)
         try:
             if key not in cache:
-                cache[key] = normal_period.normal_cycle(model, amplitude)
+                start = None if transients is None else transients.get(key[0])
+                cache[key] = normal_period.normal_cycle(model, amplitude, start)
             cycle = cache[key]
         except NotPeriodOneError as error:
             if model.is_compliant and method == "exact":
@@ -495,12 +498,18 @@ def effective_friction_map(
     values = check.real_array(name, values)
     cache: dict = {}
     rows, methods, periods = [], set(), []
-    for value in values:
-        if name == "amplitude":
-            point, amp = model, float(value)
-        else:
-            point, amp = model.replace(**{name: float(value)}), amplitude
-        fields, used, period = _points(point, speeds, amp, method, cache, _DEFAULTS)
+    points = [
+        (model, float(value)) if name == "amplitude"
+        else (model.replace(**{name: float(value)}), amplitude)
+        for value in values
+    ]  # fmt: skip
+    transients = (
+        {}
+        if method == "time_average"
+        else normal_period.forced_transients([point for point, _ in points])
+    )
+    for point, amp in points:
+        fields, used, period = _points(point, speeds, amp, method, cache, _DEFAULTS, transients)
         rows.append(fields)
         methods |= used
         periods.append(period)

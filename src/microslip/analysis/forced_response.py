@@ -29,6 +29,7 @@ from microslip.analysis.normal_flow import (
     S_SIZE,
     S_YMAX,
     S_YMIN,
+    VARIATIONAL,
     propagate_each,
 )
 from microslip.analysis.periodic import (
@@ -175,7 +176,7 @@ def forced_response(
         ends = np.empty((len(lams), 2))
         phis = np.empty((len(lams), 2, 2))
         summaries = np.empty((len(lams), S_SIZE))
-        propagate_each(cs, states, periods, n_steps, record, ends, phis, summaries)
+        propagate_each(cs, states, periods, n_steps, record, ends, phis, summaries, VARIATIONAL)
         return ends, phis, summaries
 
     def residual(u: np.ndarray, lam: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:

@@ -43,7 +43,7 @@ from microslip.model.damping import can_separate_in_overlap, damped_force_partia
 from microslip.model.excitation import applied_force
 from microslip.model.normal import gap, raw_normal_force
 
-__all__ = ["propagate", "propagate_each"]
+__all__ = ["STATE_ONLY", "VARIATIONAL", "propagate", "propagate_each"]
 
 # Functions located inside a step.
 W_CONTACT = 0  # switching function: > 0 in contact
@@ -63,7 +63,9 @@ S_SIZE = 6
 _EPS = 2.220446049250313e-16
 _DIM = 6  # y, ẏ, Φ00, Φ01, Φ10, Φ11
 _STATE = np.int64(2)  # y, ẏ alone (np.int64: no literal specialisation of the callees)
-_VARIATIONAL = np.bool_(True)
+# ``variational`` of propagate_each (NumPy bools: one compiled form for both).
+VARIATIONAL = np.bool_(True)  # with the monodromy Φ
+STATE_ONLY = np.bool_(False)  # (y, ẏ) alone: a transient
 
 
 @njit(cache=True, inline="always")
@@ -343,15 +345,16 @@ def propagate(c, y_start, yd_start, t0, duration, n_steps, record, variational):
 
 
 @njit(cache=True, parallel=True)
-def propagate_each(cs, starts, durations, n_steps, record, ends, phis, summaries):
+def propagate_each(cs, starts, durations, n_steps, record, ends, phis, summaries, variational):
     """:func:`propagate` from t0 = 0 for each row i, in parallel: coefficients cs[i],
     state starts[i] = (y [m], ẏ [m/s]), durations[i] [s]; fills ends[i] (2,), phis[i]
-    (2, 2) and summaries[i] (S_SIZE,). Each row is integrated on its own, so its bits do
-    not depend on the other rows or the thread count.
+    (2, 2; NaN unless ``variational``, a NumPy bool) and summaries[i] (S_SIZE,). Each row
+    is integrated on its own, so its bits do not depend on the other rows or the thread
+    count.
     """
     for i in prange(cs.shape[0]):
         end, phi, _nodes, _accel, summary = propagate(
-            cs[i], starts[i, 0], starts[i, 1], 0.0, durations[i], n_steps, record, _VARIATIONAL
+            cs[i], starts[i, 0], starts[i, 1], 0.0, durations[i], n_steps, record, variational
         )
         ends[i, :] = end
         phis[i, :, :] = phi

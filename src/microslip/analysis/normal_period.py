@@ -22,7 +22,7 @@ from microslip.analysis.contact_point import (
     build_pieces,
 )
 from microslip.model.composition import Model
-from microslip.model.excitation import PrescribedPenetration
+from microslip.model.excitation import BaseMotion, HarmonicForce, PrescribedPenetration
 from microslip.model.normal import normal_acceleration, normal_force
 
 __all__ = ["NormalCycle", "normal_cycle", "normal_model"]
@@ -91,9 +91,30 @@ def _coarse_base(t: np.ndarray, y: np.ndarray) -> np.ndarray:
     return t[keep]
 
 
-def normal_cycle(model: Model, amplitude: float | None) -> NormalCycle:
+def forced_transients(models: list[Model]) -> dict:
+    """The first transients of the forced orbits that :func:`normal_cycle` needs for these
+    models (HarmonicForce or BaseMotion, nonzero amplitude), by normal model
+    (:func:`normal_model`), integrated side by side over the cores
+    (:func:`~microslip.analysis.periodic.transient_states`: the same bits as one orbit at
+    a time). Empty for fewer than two."""
+    from microslip.analysis.periodic import transient_states
+
+    normals = dict.fromkeys(normal_model(m) for m in models)
+    forced = [
+        n for n in normals
+        if isinstance(n.excitation, BaseMotion | HarmonicForce) and n.excitation.amplitude != 0.0
+    ]  # fmt: skip
+    if len(forced) < 2:
+        return {}
+    return dict(zip(forced, transient_states(forced), strict=True))
+
+
+def normal_cycle(
+    model: Model, amplitude: float | None, transient_state: np.ndarray | None = None
+) -> NormalCycle:
     """The steady normal motion of ``model`` (raises NotPeriodOneError if it is not
-    period-1)."""
+    period-1). ``transient_state``: a forced orbit's first transient, when known
+    (:func:`~microslip.analysis.periodic.transient_states`)."""
     from microslip.analysis.periodic import periodic_orbit
 
     normal = normal_model(model)
@@ -114,7 +135,7 @@ def normal_cycle(model: Model, amplitude: float | None) -> NormalCycle:
     elif excitation is not None:
         if excitation.amplitude == 0.0:
             return NormalCycle(math.nan, weight)
-        orbit = periodic_orbit(normal)
+        orbit = periodic_orbit(normal, transient_state=transient_state)
         kind, base, period = TABLE, orbit.t, orbit.period
         tables = (orbit.t, orbit.y, orbit.ydot, orbit.accel_start, orbit.accel_end)
     else:

@@ -27,9 +27,12 @@ from microslip.analysis.normal_flow import (
     S_FLIGHT,
     S_NMAX,
     S_NMIN,
+    S_SIZE,
     S_YMAX,
     S_YMIN,
+    STATE_ONLY,
     propagate,
+    propagate_each,
 )
 from microslip.model.capabilities import require
 from microslip.model.composition import Model, as_model
@@ -256,6 +259,7 @@ def periodic_orbit(
     initial_state: tuple[float, float] | None = None,
     transient_periods: int = 64,
     strict: bool = True,
+    transient_state: np.ndarray | None = None,
 ) -> PeriodicOrbit:
     """The periodic normal motion reached from rest at y = y0 (or from ``initial_state``).
 
@@ -273,6 +277,10 @@ def periodic_orbit(
         Raise :class:`NotPeriodOneError` when the response is not a stable period-1
         orbit; with ``False`` return the (unstable) period-1 orbit found, flagged
         ``period_one=False``.
+    transient_state : (y [m], ẏ [m/s]), optional
+        The state after the first transient when it is known already: the row of
+        :func:`transient_states` for this model (with ``initial_state`` and
+        ``transient_periods`` at their defaults). The same bits as integrating it here.
 
     Returns
     -------
@@ -299,7 +307,9 @@ def periodic_orbit(
     state = np.array(start)
     orbit = None
     for attempt, periods in enumerate((transient_periods, 4 * transient_periods + 64)):
-        if periods > 0:
+        if attempt == 0 and transient_state is not None:
+            state = np.array(transient_state, dtype=float)
+        elif periods > 0:
             # The transient needs the state alone: no variational equation.
             state, _, _, _, _ = propagate(
                 c, state[0], state[1], 0.0, periods * period, periods * n_steps, False, False
@@ -325,3 +335,27 @@ def periodic_orbit(
             "use a time average"
         )
     return orbit
+
+
+def transient_states(models: list[Model], transient_periods: int = 64) -> np.ndarray:
+    """(y [m], ẏ [m/s]) after ``transient_periods`` excitation periods from rest at y0
+    for each model (HarmonicForce or BaseMotion, nonzero amplitude), the first transient
+    of :func:`periodic_orbit`, which takes a row as ``transient_state``. The models run
+    side by side over the cores (:func:`normal_flow.propagate_each`), each on its own:
+    the same bits as one at a time."""
+    out = np.empty((len(models), 2))
+    steps = [steps_per_period(model) for model in models]
+    for n_steps in dict.fromkeys(steps):  # one parallel batch per step count
+        rows = [i for i, k in enumerate(steps) if k == n_steps]
+        cs = np.array([models[i].pack(0.0) for i in rows])
+        starts = np.array([[models[i].params.static_deflection, 0.0] for i in rows])
+        durations = np.array([transient_periods * models[i].excitation.period for i in rows])
+        ends = np.empty((len(rows), 2))
+        phis = np.empty((len(rows), 2, 2))
+        summaries = np.empty((len(rows), S_SIZE))
+        propagate_each(
+            cs, starts, durations, transient_periods * n_steps, False, ends, phis, summaries,
+            STATE_ONLY,
+        )  # fmt: skip
+        out[rows] = ends
+    return out
