@@ -453,6 +453,15 @@ def _flight_mode(s):
 
 
 @njit(cache=True, inline="always")
+def _lift_off(s):
+    """(mode, event) of a compliant contact point leaving contact: the spring relaxes
+    (f = 0, u = x, in place in ``s``) and the point flies with the body."""
+    s[FT] = 0.0
+    s[U] = s[X]
+    return _flight_mode(s), CONTACT_LOST
+
+
+@njit(cache=True, inline="always")
 def _drop_to_kinetic_limit(t, s, direction, normal, c):
     """A compliant contact point starts to slip in ``direction``: its spring force drops
     to the kinetic limit μ_k N at once and the massless point jumps as the spring
@@ -533,9 +542,7 @@ def _compliant_switch(which, t, s, mode, c):
         # rate u̇ = ẋ - ḟ/k_t jump, and their flip can be located an ulp before the
         # contact function's. It is the loss of contact (else the spring would keep its
         # extension through the flight and the loss would never be recorded).
-        s[FT] = 0.0
-        s[U] = s[X]
-        return _flight_mode(s), CONTACT_LOST
+        return _lift_off(s)
     if which == STICK_MARGIN:
         # Slip starts towards the spring force, which drops to the kinetic limit
         # (instantly: the contact point is massless). Where μ_s > μ_k and N falls the
@@ -581,9 +588,7 @@ def apply_switch(which, t, s, mode, c):
             return _tangential_mode(mode), CONTACT_MADE
         if before and not after:
             if is_compliant(c):
-                s[FT] = 0.0
-                s[U] = s[X]
-                return _flight_mode(s), CONTACT_LOST
+                return _lift_off(s)
             return mode + (_AIRBORNE if can_separate_in_overlap(c) else 0.0), CONTACT_LOST
         return mode, NO_EVENT
     if is_compliant(c):
@@ -663,10 +668,10 @@ def interface_samples(t, states, modes, c):
         s = states[k]
         normal = normal_force(t[k], s[Y], s[YDOT], c)
         limit[k] = friction_limit(normal, c)
+        direction = _tangential_mode(modes[k])
         if is_compliant(c):
             friction[k] = -s[FT]
-        elif _tangential_mode(modes[k]) != 0.0:
-            direction = _tangential_mode(modes[k])
+        elif direction != 0.0:
             friction[k] = -direction * kinetic_coefficient(s[XDOT], c) * normal
         else:
             friction[k] = -drive_force(t[k], s[X], c)
