@@ -76,6 +76,21 @@ def test_transients_side_by_side_give_the_same_orbits():
         np.testing.assert_array_equal(batched.multipliers, alone.multipliers)
 
 
+@pytest.mark.parametrize(
+    ("kwargs", "match"),
+    [
+        ({"transient_state": [Y0, 0.0], "initial_state": (Y0, 0.0)}, "initial_state"),
+        ({"transient_state": [Y0, 0.0], "transient_periods": 8}, "transient_periods"),
+        ({"transient_state": [Y0, math.nan]}, "two finite numbers"),
+        ({"transient_state": [Y0]}, "two finite numbers"),
+    ],
+)
+def test_transient_state_refusals(kwargs, match):
+    with pytest.raises(ValueError, match=match) as info:
+        periodic_orbit(FORCED, **kwargs)
+    assert "\n" not in str(info.value)
+
+
 def test_undamped_orbit_is_neutral():
     orbit = periodic_orbit(ms.Model(P, None, ms.HarmonicForce(0.05, 0.5 * F0)), transient_periods=0)
     assert abs(abs(np.prod(orbit.multipliers)) - 1.0) < 1e-10  # area preserving

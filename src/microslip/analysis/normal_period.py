@@ -25,7 +25,7 @@ from microslip.model.composition import Model
 from microslip.model.excitation import BaseMotion, HarmonicForce, PrescribedPenetration
 from microslip.model.normal import normal_acceleration, normal_force
 
-__all__ = ["NormalCycle", "normal_cycle", "normal_model"]
+__all__ = ["NormalCycle", "forced_transients", "normal_cycle", "normal_model"]
 
 FREE_PIECES = 64  # pieces per period of the free orbit's table (_coarse_base)
 

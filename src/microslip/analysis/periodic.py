@@ -46,8 +46,10 @@ __all__ = [
     "periodic_orbit",
     "shoot",
     "steps_per_period",
+    "transient_states",
 ]
 
+TRANSIENT_PERIODS = 64  # excitation periods from rest before the shooting
 STEPS_PER_NATURAL_PERIOD = 96  # 8th-order steps per 1/f0: one-period error near round-off
 MIN_STEPS = 64
 STABILITY_MARGIN = 1e-9  # stable: every |λ| < 1 + margin
@@ -257,7 +259,7 @@ def periodic_orbit(
     model: Model,
     *,
     initial_state: tuple[float, float] | None = None,
-    transient_periods: int = 64,
+    transient_periods: int = TRANSIENT_PERIODS,
     strict: bool = True,
     transient_state: np.ndarray | None = None,
 ) -> PeriodicOrbit:
@@ -303,12 +305,24 @@ def periodic_orbit(
             raise ValueError(
                 f"initial_state must be two finite numbers (y, ydot), got {initial_state!r}"
             )
+    if transient_state is not None:
+        if initial_state is not None or transient_periods != TRANSIENT_PERIODS:
+            raise ValueError(
+                f"transient_state is the first transient from rest over {TRANSIENT_PERIODS} "
+                "periods (transient_states); it cannot be combined with initial_state or "
+                "another transient_periods"
+            )
+        transient_state = np.asarray(transient_state, dtype=float)
+        if transient_state.shape != (2,) or not np.all(np.isfinite(transient_state)):
+            raise ValueError(
+                f"transient_state must be two finite numbers (y, ydot), got {transient_state!r}"
+            )
     scale = state_scale(model)
     state = np.array(start)
     orbit = None
     for attempt, periods in enumerate((transient_periods, 4 * transient_periods + 64)):
         if attempt == 0 and transient_state is not None:
-            state = np.array(transient_state, dtype=float)
+            state = transient_state.copy()
         elif periods > 0:
             # The transient needs the state alone: no variational equation.
             state, _, _, _, _ = propagate(
@@ -337,7 +351,7 @@ def periodic_orbit(
     return orbit
 
 
-def transient_states(models: list[Model], transient_periods: int = 64) -> np.ndarray:
+def transient_states(models: list[Model], transient_periods: int = TRANSIENT_PERIODS) -> np.ndarray:
     """(y [m], ẏ [m/s]) after ``transient_periods`` excitation periods from rest at y0
     for each model (HarmonicForce or BaseMotion, nonzero amplitude), the first transient
     of :func:`periodic_orbit`, which takes a row as ``transient_state``. The models run

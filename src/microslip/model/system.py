@@ -133,25 +133,33 @@ FLIGHT = 2.0  # |mode| of a compliant contact point in flight (its law until tou
 # undamped laws are continuous at touchdown (N = S c_n δ^m2 -> 0), so there the stage
 # states decide, as in the paper's scheme and its vectorised pass.
 _AIRBORNE = 4.0
+_FLAGGED_ABOVE = 2.5  # modes above it carry the flag (3, 4, 5); every other one is < 2.5
+
+
+@njit(cache=True, inline="always")
+def _flight_flag(c):
+    """What a rigid contact adds to its mode in flight: _AIRBORNE for a damped model, 0
+    for an undamped one (the stage states decide there, see _AIRBORNE)."""
+    return _AIRBORNE if can_separate_in_overlap(c) else 0.0
 
 
 @njit(cache=True, inline="always")
 def _tangential_mode(mode):
     """The interface part of ``mode``: 0 (stick), ±1 (slip), ±2 (compliant flight)."""
-    return mode - _AIRBORNE if mode > 2.5 else mode
+    return mode - _AIRBORNE if mode > _FLAGGED_ABOVE else mode
 
 
 @njit(cache=True, inline="always")
 def airborne(mode):
     """True when ``mode`` holds the body out of contact (N = 0 over the step)."""
-    return mode > 2.5 or abs(mode) == FLIGHT
+    return mode > _FLAGGED_ABOVE or abs(mode) == FLIGHT
 
 
 def slip_directions(modes: np.ndarray) -> np.ndarray:
     """The slip direction (-1, 0 = stick, +1) of recorded modes: a compliant contact
     point in flight (±2) gives ±1, a rigid contact in flight its tangential mode."""
     modes = np.asarray(modes, dtype=float)
-    return np.sign(np.where(modes > 2.5, modes - _AIRBORNE, modes))
+    return np.sign(np.where(modes > _FLAGGED_ABOVE, modes - _AIRBORNE, modes))
 
 
 @njit(cache=True, inline="always")
@@ -491,7 +499,7 @@ def initial_mode(t, s, c):
         direction = sign(s[FT])
         _drop_to_kinetic_limit(t, s, direction, normal, c)
         return direction
-    offset = _AIRBORNE if can_separate_in_overlap(c) and not normal > 0.0 else 0.0
+    offset = 0.0 if normal > 0.0 else _flight_flag(c)
     return _rigid_direction(t, s, normal, c) + offset
 
 
@@ -589,7 +597,7 @@ def apply_switch(which, t, s, mode, c):
         if before and not after:
             if is_compliant(c):
                 return _lift_off(s)
-            return mode + (_AIRBORNE if can_separate_in_overlap(c) else 0.0), CONTACT_LOST
+            return mode + _flight_flag(c), CONTACT_LOST
         return mode, NO_EVENT
     if is_compliant(c):
         return _compliant_switch(which, t, s, mode, c)
