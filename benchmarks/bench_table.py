@@ -167,10 +167,12 @@ def job_forced_time_map(n_forces, n_amplitudes, rows):
     )
 
 
-def job_compliant_time_map(n_forces, n_amplitudes, rows):
-    """TangentialSpring(K_n), forces x amplitudes, 0.05 s: the batched kernel (one
-    trajectory per point, simulate(method="rk4") bit for bit) vs the scalar event path."""
-    model = ms.Model(PARAMS, tangential=ms.TangentialSpring(PARAMS.contact_stiffness))
+def job_compliant_time_map(tangential, kernel, n_forces, n_amplitudes, rows):
+    """A compliant tangential contact, forces x amplitudes, 0.05 s, vs the scalar event
+    path: a TangentialSpring on the spring-lane kernel (one normal tape per amplitude,
+    integrators/spring_lanes.py), a MindlinSpring on the batched RK4 kernel (one
+    trajectory per point, simulate(method="rk4") bit for bit)."""
+    model = ms.Model(PARAMS, tangential=tangential)
     forces = np.linspace(0.05, 0.95, n_forces)
     amps = np.linspace(0.0, 3e-7, n_amplitudes)
 
@@ -194,9 +196,10 @@ def job_compliant_time_map(n_forces, n_amplitudes, rows):
         errors.append(abs(values[i, j] - ref / DURATION))
     per_traj_peer = peer_seconds / len(samples)
     per_traj = seconds / (n_forces * n_amplitudes)
+    name = type(tangential).__name__
     rows.append(
         {
-            "job": f"time map, TangentialSpring(K_n), {n_forces}x{n_amplitudes} (batched kernel)",
+            "job": f"time map, {name}, {n_forces}x{n_amplitudes} ({kernel})",
             "microslip": f"{seconds:.3f} s = {throughput:.2e} steps*traj/s",
             "peer": f"scalar event path: {per_traj_peer * 1e3:.2f} ms/traj",
             "ratio": per_traj_peer / per_traj,
@@ -488,7 +491,11 @@ def main(argv=None) -> int:
     log("forced time map ...")
     job_forced_time_map(64 if quick else 256, 8 if quick else 64, rows)
     log("compliant time map ...")
-    job_compliant_time_map(16 if quick else 64, 4 if quick else 16, rows)
+    spring = ms.TangentialSpring(PARAMS.contact_stiffness)
+    job_compliant_time_map(spring, "spring lanes", 32 if quick else 256, 8 if quick else 64, rows)
+    log("compliant time map, Mindlin ...")
+    mindlin = ms.MindlinSpring(0.8235)
+    job_compliant_time_map(mindlin, "batched RK4", 8 if quick else 32, 2 if quick else 8, rows)
     log("steady map ...")
     _, peer64 = best_time(
         bvm.numpy_rk4_naive,

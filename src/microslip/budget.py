@@ -83,6 +83,12 @@ TAPE_BYTES = 2048 * 15 * 8 + 4096  # one tape buffer per thread (shared_lanes.TA
 # per lane-step per thread (TangentialSpring, free vibration), 1.34 us (MindlinSpring,
 # Viscous + HarmonicForce); rounded up ~3x.
 BATCHED_S_PER_LANE_STEP = 4e-6
+# "time" sweeps of a TangentialSpring (microslip.integrators.spring_lanes): the tapes as
+# above, each lane-step the contact point's closed forms. Measured 2026-11-26, 64 forces
+# x 16 amplitudes, 0.05 s, dt = 1/200 of the tangential period, 2 threads: 12 ns per
+# lane-step per thread, switches included (~2 % of the lane-steps are searched, ~0.4 us
+# each); rounded up ~2.5x.
+SPRING_S_PER_LANE_STEP = 3e-8
 
 # DOP853 work per normal period T0 = 1/f0 (accepted + rejected steps + switching
 # instants), the worst of m2 in {1, 1.5, 2, 3}, F/(mu m g) in {-0.5, 0, 0.3, 0.9, 2},
@@ -360,8 +366,9 @@ def estimate_sweep(
     one orbit table per (set, amplitude) and a cycle per point. "time": ``lane_steps``
     trajectory-steps in all (the work reported); run time from ``setup_steps``, the sum
     over chunks of grid steps x :func:`shared_chunk_rounds` (the tapes, a thread each),
-    each round also advancing its ``n_forces`` lanes; with ``kernel="batched"`` (a
-    compliant tangential contact) from ``lane_steps`` spread over the threads. Memory:
+    each round also advancing its ``n_forces`` lanes (``kernel="spring"``: a
+    TangentialSpring's lanes); with ``kernel="batched"`` (a MindlinSpring) from
+    ``lane_steps`` spread over the threads. Memory:
     the result
     (``SWEEP_BYTES_PER_POINT`` per point) and the buffers of the chunk of
     ``chunk_points`` points being computed (an in-process run computes one chunk at a
@@ -379,7 +386,8 @@ def estimate_sweep(
         buffers = BATCH_BYTES_PER_LANE * chunk_points
         work, unit = lane_steps, "trajectory-steps"
     else:
-        per_step = SHARED_S_PER_SETUP_STEP + n_forces * SHARED_S_PER_LANE_STEP
+        lane_cost = SPRING_S_PER_LANE_STEP if kernel == "spring" else SHARED_S_PER_LANE_STEP
+        per_step = SHARED_S_PER_SETUP_STEP + n_forces * lane_cost
         seconds = setup_steps * per_step
         buffers = BATCH_BYTES_PER_LANE * chunk_points + batch_threads() * TAPE_BYTES
         work, unit = lane_steps, "trajectory-steps"

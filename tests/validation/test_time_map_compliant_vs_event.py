@@ -1,9 +1,10 @@
 """Time sweeps of a compliant tangential contact against the event method.
 
-``sweep(method="time")`` runs a TangentialSpring or MindlinSpring model on the batched
-RK4 kernel (the shared-normal kernel has no lane law for the contact point). Each point
-is checked against ``simulate(method="event")`` at rtol 1e-12, an integration with
-adaptive steps and located events that shares none of the fixed-step path: x(T)/T must
+``sweep(method="time")`` runs a TangentialSpring model on the spring-lane kernel (one
+normal tape per set-up, the contact point in closed form per piece:
+integrators/spring_lanes.py) and a MindlinSpring model on the batched RK4 kernel. Each
+point is checked against ``simulate(method="event")`` at rtol 1e-12, an integration with
+adaptive steps and located events that shares none of the fixed-step paths: x(T)/T must
 agree to the RK4 error at the default step, 1/200 of the shortest period of the model
 (docs/theory/numerics.md). The stiff case (k_t = 1e3 K_n, a tangential period T0/32)
 fails if the step ignores the tangential oscillation: at T0/200, ω_t dt ≈ 1.
@@ -44,6 +45,23 @@ CASES = {
     "mindlin, Viscous + HarmonicForce, flights": (
         ms.Model(P, tangential=ms.MindlinSpring(0.8235), damping=ms.Viscous(0.05),
                  excitation=ms.HarmonicForce(4.0, 1200.0)),
+        {"excitation.amplitude": [4.0, 6.0]},
+    ),
+    # the same on the spring-lane kernel: in contact, and a loss of contact every period
+    # with (Kelvin–Voigt) and without (Hunt–Crossley) a force jump at touchdown
+    "spring, Viscous + HarmonicForce": (
+        ms.Model(P, tangential=ms.TangentialSpring(P.contact_stiffness),
+                 damping=ms.Viscous(0.05), excitation=ms.HarmonicForce(2.0, 1200.0)),
+        {"excitation.amplitude": [2.0, 3.0]},
+    ),
+    "spring, Viscous + HarmonicForce, flights": (
+        ms.Model(P, tangential=ms.TangentialSpring(P.contact_stiffness),
+                 damping=ms.Viscous(0.05), excitation=ms.HarmonicForce(4.0, 1200.0)),
+        {"excitation.amplitude": [4.0, 6.0]},
+    ),
+    "spring, HuntCrossley + HarmonicForce, flights": (
+        ms.Model(P, tangential=ms.TangentialSpring(P.contact_stiffness),
+                 damping=ms.HuntCrossley(0.05), excitation=ms.HarmonicForce(4.0, 1200.0)),
         {"excitation.amplitude": [4.0, 6.0]},
     ),
     # loss of contact every period, no force jump at touchdown (see the module doc)

@@ -63,7 +63,7 @@ LANE_STALLED = 5  # a lane switched more than MAX_SWITCHES_PER_STEP times in one
 
 
 @njit(cache=True, inline="always")
-def _speed(a, h, tau_a, v_a, s, fm, km, tau):
+def slip_speed(a, h, tau_a, v_a, s, fm, km, tau):
     """s·ẋ(τ) [m/s] of a lane sliding in direction s since (τ_a, ẋ_a) on a piece of
     length h [s] whose normal force is the quartic ``a``."""
     return (
@@ -74,7 +74,7 @@ def _speed(a, h, tau_a, v_a, s, fm, km, tau):
 
 
 @njit(cache=True, inline="always")
-def _position(a, h, tau_a, x_a, v_a, s, fm, km, tau):
+def slip_position(a, h, tau_a, x_a, v_a, s, fm, km, tau):
     """x(τ) [m] of a lane sliding in direction s since (τ_a, x_a, ẋ_a)."""
     d = tau - tau_a
     k = nt.double_integral(a, tau) - nt.double_integral(a, tau_a) - nt.integral(a, tau_a) * d
@@ -88,7 +88,7 @@ def _root_value(kind, a, h, tau_a, v_a, s, fm, km, level, tau):
     if kind == 0:
         return nt.poly(a, tau) - level, nt.poly_rate(a, tau)
     rate = h * (s * fm - km * nt.poly(a, tau))
-    return _speed(a, h, tau_a, v_a, s, fm, km, tau), rate
+    return slip_speed(a, h, tau_a, v_a, s, fm, km, tau), rate
 
 
 @njit(cache=True)
@@ -188,10 +188,10 @@ def _first_stop(a, crit, h, tau_a, v_a, s, fm, km, level):
             hi = split if part == 0 else seg_hi
             if hi <= lo:
                 continue
-            w_hi = _speed(a, h, tau_a, v_a, s, fm, km, hi)
+            w_hi = slip_speed(a, h, tau_a, v_a, s, fm, km, hi)
             if w_hi > 0.0:
                 continue
-            w_lo = _speed(a, h, tau_a, v_a, s, fm, km, lo)
+            w_lo = slip_speed(a, h, tau_a, v_a, s, fm, km, lo)
             if w_lo <= 0.0:
                 if lo > tau_a:
                     return lo
@@ -220,10 +220,10 @@ def _lane_piece(a, crit, h, fm, km, n_release, n_balance, direction, x, v, mode)
         s = mode
         tau_s = _first_stop(a, crit, h, tau, v, s, fm, km, s * n_balance)
         if tau_s > 1.0:
-            x1 = _position(a, h, tau, x, v, s, fm, km, 1.0)
-            v1 = s * _speed(a, h, tau, v, s, fm, km, 1.0)
+            x1 = slip_position(a, h, tau, x, v, s, fm, km, 1.0)
+            v1 = s * slip_speed(a, h, tau, v, s, fm, km, 1.0)
             return x1, v1, mode, switches
-        x = _position(a, h, tau, x, v, s, fm, km, tau_s)
+        x = slip_position(a, h, tau, x, v, s, fm, km, tau_s)
         v = 0.0
         tau = tau_s
         switches += 1

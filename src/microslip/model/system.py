@@ -517,7 +517,7 @@ def _rigid_direction(t, s, normal, c):
 
 # Friction limit [in units of m g] below which a touchdown is taken as grazing (N = 0+):
 # the spring, relaxed, then sticks only if the limit rises at least as fast as it loads.
-_GRAZING = 1e-12
+GRAZING = 1e-12
 
 
 @njit(cache=True)
@@ -529,7 +529,7 @@ def _touchdown_mode(t, s, c):
     slides with the body's direction on the limit f = μ_k N (= 0+).
     """
     normal = normal_force_call(t, s[Y], s[YDOT], c)
-    if friction_limit(normal, c) > _GRAZING * c[MASS] * c[GRAVITY] or s[XDOT] == 0.0:
+    if friction_limit(normal, c) > GRAZING * c[MASS] * c[GRAVITY] or s[XDOT] == 0.0:
         return 0.0
     limit_rate = friction_limit_rate(normal_force_rate_call(t, s[Y], s[YDOT], c), c)
     loading = tangential_stiffness(gap(t, s[Y], s[YDOT], c)[0], c) * abs(s[XDOT])

@@ -7,20 +7,21 @@ import numpy as np
 from microslip.analysis.steady_state import ORBIT_STEPS, mean_velocity_grid
 from microslip.model.coefficients import FORCE, pack
 from microslip.simulation import DEFAULT_RK4_STEPS_PER_PERIOD, initial_state_from_amplitude
-from microslip.sweeps.spec import ChunkKey, SweepSpec
+from microslip.sweeps.spec import ChunkKey, SweepSpec, time_kernel
 
 
 def compute_chunk(spec: SweepSpec, key: ChunkKey) -> np.ndarray:
     """Mean velocity [m/s] on the chunk's (force, amplitude) block.
 
     "steady": the exact long-time mean (inf where F > μ m g). "time": x(T)/T after a
-    run of duration T from the paper's initial state (rest at the top), by the
-    shared-normal kernel (:mod:`microslip.integrators.shared_lanes`): one RK4 normal
+    run of duration T from the paper's initial state (rest at the top), by a
+    shared-normal kernel (:mod:`microslip.integrators.shared_lanes`, or
+    :mod:`microslip.integrators.spring_lanes` for a TangentialSpring): one RK4 normal
     motion per amplitude, shared by every force.
     Each point is computed independently of the chunking, so results are bit-identical
     however the sweep is split or distributed.
     """
-    if spec.method == "time" and spec.base.is_compliant:
+    if spec.method == "time" and time_kernel(spec.base) == "batched":
         return compliant_time_chunk(spec, key)
     if spec.forced:
         return forced_chunk(spec, key)
@@ -42,8 +43,8 @@ def compute_chunk(spec: SweepSpec, key: ChunkKey) -> np.ndarray:
 
 def shares_runs(spec: SweepSpec) -> bool:
     """True when :func:`compute_chunks` computes several chunks in one run: a forced
-    model's time chunks on the shared-normal kernel, one normal set-up each."""
-    return spec.forced and spec.method == "time" and not spec.base.is_compliant
+    model's time chunks on a shared-normal kernel, one normal set-up each."""
+    return spec.forced and spec.method == "time" and time_kernel(spec.base) != "batched"
 
 
 def compute_chunks(spec: SweepSpec, keys: list[ChunkKey]) -> list[np.ndarray]:
@@ -124,11 +125,12 @@ def forced_chunk(spec: SweepSpec, key: ChunkKey) -> np.ndarray:
 
 
 def compliant_time_chunk(spec: SweepSpec, key: ChunkKey) -> np.ndarray:
-    """x(T)/T [m/s] on the chunk's block for a compliant tangential contact, shape
+    """x(T)/T [m/s] on the chunk's block for a Mindlin tangential contact, shape
     (forces, amplitudes of the chunk; one for a forced model).
 
-    The shared-normal kernel has no lane law for a contact point on its spring, so every
-    (force, amplitude) is a trajectory of the batched RK4 kernel
+    The shared-normal kernels have no lane law for a spring whose stiffness follows the
+    normal deflection, so every (force, amplitude) is a trajectory of the batched RK4
+    kernel
     (:func:`microslip.integrators.batched.simulate_batch`: ``simulate(method="rk4")``
     bit for bit), from the initial state of ``simulate``: the paper's rest at the top
     (free vibration) or rest at y0 (forced), a relaxed spring.
@@ -148,9 +150,12 @@ def compliant_time_chunk(spec: SweepSpec, key: ChunkKey) -> np.ndarray:
 
 def _shared_run(models, normal0, forces, duration, dt) -> np.ndarray:
     """x(duration) [m], shape (set-ups, forces), from rest on each normal set-up (one
-    model per row of ``normal0``: y [m], ẏ [m/s] at t = 0) under every constant force [N]."""
+    model per row of ``normal0``: y [m], ẏ [m/s] at t = 0) under every constant force
+    [N], on the shared-normal kernel of the models' tangential contact (all rigid or all
+    springs of constant stiffness, a relaxed spring at t = 0)."""
     from microslip.integrators.normal_tape import normal_coefficients
     from microslip.integrators.shared_lanes import run_shared
+    from microslip.integrators.spring_lanes import run_spring_lanes
 
     forces = np.asarray(forces, dtype=float)
     n_setups = normal0.shape[0]
@@ -159,7 +164,12 @@ def _shared_run(models, normal0, forces, duration, dt) -> np.ndarray:
     groups = np.repeat(np.arange(n_setups), forces.size)
     lane_forces = np.tile(forces, n_setups)
     mu = np.repeat([model.params.mu for model in models], forces.size)
-    x = run_shared(coeffs, normal0, groups, lane_forces, mu, mu, duration, dt)[0]
+    if models[0].is_compliant:
+        stiffness = [model.tangential.stiffness for model in models]
+        x = run_spring_lanes(coeffs, normal0, stiffness, groups, lane_forces, mu, mu, duration,
+                             dt)[0]  # fmt: skip
+    else:
+        x = run_shared(coeffs, normal0, groups, lane_forces, mu, mu, duration, dt)[0]
     return x.reshape(n_setups, forces.size)
 
 

@@ -42,12 +42,20 @@ DEFAULT_DURATION = 0.05  # [s], "time" method
 # Parameter combinations are checked on a dense grid; beyond this many it would not fit.
 MAX_PARAMETER_SETS = 10_000_000
 ChunkKey = tuple[int, ...]  # parameter-axis indices..., amplitude-chunk index
-# The tangential contacts of a time sweep (a compliant one runs on the batched kernel).
+# The tangential contacts of a time sweep (a Mindlin one runs on the batched kernel).
 TIME_TANGENTIAL = (None, TangentialSpring, MindlinSpring)
 SWEEP_INSTEAD = (
     f"{TANGENTIAL_INSTEAD}; method='time' also takes a compliant tangential contact "
     "(TangentialSpring, MindlinSpring)"
 )
+
+
+def time_kernel(model: Model) -> str:
+    """The kernel of a time sweep of ``model`` (:func:`microslip.budget.estimate_sweep`):
+    "shared" (rigid contact), "spring" (TangentialSpring) or "batched" (MindlinSpring)."""
+    if not model.is_compliant:
+        return "shared"
+    return "spring" if isinstance(model.tangential, TangentialSpring) else "batched"
 
 
 def _estimate(
@@ -87,7 +95,7 @@ def _estimate(
         setup_steps=setup_steps,
         chunk_points=n_forces * amplitude_chunk,
         axis_values=values,
-        kernel="batched" if model.is_compliant else "shared",
+        kernel=time_kernel(model),
     )
 
 

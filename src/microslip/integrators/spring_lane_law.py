@@ -1,0 +1,246 @@
+"""One compliant tangential lane on a piece of the normal tape: a contact point on a
+spring of constant stiffness (``TangentialSpring``) under a constant force.
+
+The body at x and its massless contact point are joined by the spring k_t [N/m], with
+the spring force f [N] (docs/theory/friction_reduction.md,
+:mod:`microslip.model.tangential`); the normal force is the piece's quartic P(τ),
+τ = (t - t0)/h (:mod:`microslip.integrators.normal_tape`):
+
+    stick (mode 0)   u̇ = 0: m ẍ = F - f, ḟ = k_t ẋ; holds while |f| <= μ_s N,
+    slip in s = ±1   f = s μ_k N: m ẍ = F - s μ_k N (the rigid law, eq. 2.5), while
+                     s u̇ = s ẋ - μ_k Ṅ / k_t > 0,
+    flight (mode 2)  f = 0 (a relaxed spring that follows the body): m ẍ = F.
+
+Each has a closed form over a piece. Stick is the harmonic oscillator of e = f - F,
+ω = sqrt(k_t/m), with d = ω (t - t_a):
+
+    f = f_a + e_a (cos d - 1) + (k_t ẋ_a/ω) sin d,   ẋ = ẋ_a cos d - e_a/(m ω) sin d,
+    x = x_a + (e_a/k_t)(cos d - 1) + (ẋ_a/ω) sin d;
+
+slip is the rigid formula on the tape's integrals (:func:`shared_lanes.slip_speed`);
+flight is uniform acceleration. The switches are those of :mod:`microslip.model.system`:
+a release at |f| = μ_s N (the spring force drops to μ_k N; the point slides unless
+s u̇ <= 0 there), a stop at s u̇ = 0 (stick with f = s μ_k N), a loss of contact (the
+tape's piece ends; f = 0) and a touchdown with a relaxed spring (stick, unless it
+grazes, N = 0+, and the spring loads faster than the limit rises: then slip on the
+limit, the rule of ``system._touchdown_mode``).
+
+Each switching instant is the first exit of a function g (the stick margin's two smooth
+branches μ_s P ∓ f, or s u̇) from its inside, found by marching from the piece's start
+in safe steps: with |g''| <= M on the piece (from bounds of the quartic's derivatives
+and the oscillator's amplitude), g cannot reach 0 sooner than the root of
+g + g' s - M s²/2, so no crossing is skipped; near a simple root the steps are Newton's
+from the inside. The instant is located to within ~1e-12 of the piece, which keeps the
+4th order of the normal RK4 integration (tests/validation/test_spring_lanes_order.py).
+"""
+
+from __future__ import annotations
+
+import math
+
+from numba import njit
+
+from microslip import _jit_cache  # noqa: F401  (registers the cache before any @njit)
+from microslip.integrators import normal_tape as nt
+from microslip.integrators.kernel import MAX_SWITCHES_PER_STEP
+from microslip.integrators.shared_lanes import slip_position
+from microslip.integrators.shared_lanes import slip_speed as _slip_speed
+from microslip.model.system import GRAZING, sign
+
+FLIGHT = 2.0  # the mode of a lane out of contact (system.FLIGHT: a relaxed spring)
+_TAU_TOLERANCE = 1e-12  # of a piece, as in shared_lanes
+_STICK, _SLIP = 0, 1  # the switching function sought: the stick margin or s u̇
+_MAX_STEPS = 2000  # of one search: a simple root takes ~5
+_ROUNDING = 1e-15  # relative rounding of a switching function (a few ulps of its terms)
+
+
+@njit(cache=True, inline="always")
+def _rate2(a, tau):
+    """d²P/dτ² [N]."""
+    return 2.0 * a[2] + tau * (6.0 * a[3] + tau * 12.0 * a[4])
+
+
+@njit(cache=True, inline="always")
+def derivative_bounds(a):
+    """Bounds of |P|, |P'|, |P''|, |P'''| on [0, 1] [N] (sums of the coefficients'
+    moduli)."""
+    a0, a1, a2, a3, a4 = abs(a[0]), abs(a[1]), abs(a[2]), abs(a[3]), abs(a[4])
+    return (
+        a0 + a1 + a2 + a3 + a4,
+        a1 + 2.0 * a2 + 3.0 * a3 + 4.0 * a4,
+        2.0 * a2 + 6.0 * a3 + 12.0 * a4,
+        6.0 * a3 + 24.0 * a4,
+    )
+
+
+@njit(cache=True, inline="always")
+def _value(kind, a, p, tau):
+    """(g1, dg1/dτ, g2, dg2/dτ) at τ: the switching function sought is min(g1, g2),
+    each smooth on the piece, from the state at p[0] = τ_a.
+
+    Stick, p = (τ_a, θ = ω h, e_a, k_t ẋ_a/ω, f_a, μ_s): g1,2 = μ_s P ∓ f [N], whose
+    minimum μ_s P - |f| is >= 0 while stick holds (its kink where f = 0 is why the two
+    are marched apart). f = f_a + e_a (cos d - 1) + (k_t ẋ_a/ω) sin d is f_a exactly at
+    τ_a, so a stick that starts on the limit starts inside. Slip, p = (τ_a, h, ẋ_a, s,
+    F/m, μ_k/m, μ_k/(k_t h)): g1 = g2 = s u̇ [m/s], > 0 while sliding.
+    """
+    tau_a = p[0]
+    if kind == _STICK:
+        theta, e_a, b_a, f_a, mu_s = p[1], p[2], p[3], p[4], p[5]
+        d = theta * (tau - tau_a)
+        cd, sd = math.cos(d), math.sin(d)
+        half = math.sin(0.5 * d)
+        spring = f_a - 2.0 * e_a * half * half + b_a * sd
+        spring_rate = theta * (b_a * cd - e_a * sd)
+        limit = mu_s * nt.poly(a, tau)
+        limit_rate = mu_s * nt.poly_rate(a, tau)
+        return limit - spring, limit_rate - spring_rate, limit + spring, limit_rate + spring_rate
+    h, v_a, s, fm, km, q = p[1], p[2], p[3], p[4], p[5], p[6]
+    value = _slip_speed(a, h, tau_a, v_a, s, fm, km, tau) - q * nt.poly_rate(a, tau)
+    rate = h * (s * fm - km * nt.poly(a, tau)) - q * _rate2(a, tau)
+    return value, rate, value, rate
+
+
+@njit(cache=True, inline="always")
+def _inside(kind, value):
+    """Stick holds at a margin of 0 (eq. 2.2); sliding needs s u̇ > 0."""
+    return value >= 0.0 if kind == _STICK else value > 0.0
+
+
+@njit(cache=True, inline="always")
+def _safe_step(g, r, bound):
+    """The largest s with g + r s' - bound s'²/2 > 0 on [0, s): no root of a function
+    of value g > 0 (or g = 0 rising) and slope r, with |g''| <= bound, lies closer."""
+    if bound <= 0.0:
+        return g / -r if r < 0.0 else math.inf
+    root = math.sqrt(r * r + 2.0 * bound * g)
+    if r < 0.0:
+        return 2.0 * g / (root - r)  # the same root, without cancellation
+    return (r + root) / bound
+
+
+@njit(cache=True)
+def _first_exit(kind, a, p, bound, noise, lo, hi):
+    """First τ in [lo, hi] where the switching function is outside (the returned τ is,
+    just past the crossing), 2 if none, -1 if the search stalled. ``bound`` >=
+    |d²g/dτ²| on the piece; ``noise`` [units of g] the rounding of g.
+
+    It marches by safe steps (:func:`_safe_step`), so no crossing is skipped: near a
+    simple root the steps are Newton's from the inside (quadratic). The steps take g as
+    g + noise: a dip below zero no deeper than the rounding is not a crossing, and a
+    tangency within the rounding (a stick whose force returns exactly to the limit, as
+    at constant N) is passed in a few steps instead of crept along."""
+    tau = lo
+    for _ in range(_MAX_STEPS):
+        g1, r1, g2, r2 = _value(kind, a, p, tau)
+        if not _inside(kind, min(g1, g2)):
+            return tau
+        step = min(_safe_step(g1 + noise, r1, bound), _safe_step(g2 + noise, r2, bound))
+        step = max(step, 0.5 * _TAU_TOLERANCE)
+        tau += step
+        if tau >= hi:
+            if step > 0.5 * _TAU_TOLERANCE:
+                return 2.0  # [τ, hi] was safe
+            g1, _, g2, _ = _value(kind, a, p, hi)
+            return hi if not _inside(kind, min(g1, g2)) else 2.0
+    return -1.0
+
+
+@njit(cache=True, inline="always")
+def _stick_at(tau_a, x, v, f, force, omega, k_t, mass, theta, tau):
+    """(x [m], ẋ [m/s], f [N]) at τ of a lane stuck since τ_a (module doc)."""
+    d = theta * (tau - tau_a)
+    sd = math.sin(d)
+    half = math.sin(0.5 * d)
+    cos_minus_one = -2.0 * half * half  # cos d - 1 without cancellation
+    e_a = f - force
+    return (
+        x + (e_a / k_t) * cos_minus_one + (v / omega) * sd,
+        v * (1.0 + cos_minus_one) - (e_a / (mass * omega)) * sd,
+        f + e_a * cos_minus_one + (k_t * v / omega) * sd,
+    )
+
+
+@njit(cache=True, inline="always")
+def _touchdown(a, h, k_t, mass, gravity, mu_s, mu_k, v):
+    """(mode, f [N]) of a lane landing with a relaxed spring at the start of the piece:
+    stick, unless the touchdown grazes (μ_s N <= GRAZING m g) with ẋ != 0 and the spring
+    loads faster than the limit rises (μ_s dN/dt < k_t |ẋ|): slip with ẋ on f = μ_k N."""
+    limit = mu_s * a[0]
+    if limit > GRAZING * mass * gravity or v == 0.0:
+        return 0.0, 0.0
+    if mu_s * a[1] / h >= k_t * abs(v):
+        return 0.0, 0.0
+    direction = sign(v)
+    return direction, direction * mu_k * a[0]
+
+
+# Columns of the per-piece constants (one row of the tape, the group's spring).
+(P_H, P_THETA, P_OMEGA, P_KT, P_MASS, P_GRAVITY, P_D0, P_D1, P_D2, P_D3) = range(10)
+PIECE = 10
+
+
+@njit(cache=True)
+def lane_piece(a, piece, force, fm, km, mu_s, mu_k, x, v, f, mode):
+    """(x, ẋ, f, mode, switches) of one lane at the end of a contact piece, through its
+    switches; switches = -1 if the lane stalled."""
+    h, theta, omega, k_t = piece[P_H], piece[P_THETA], piece[P_OMEGA], piece[P_KT]
+    mass, d1, d2, d3 = piece[P_MASS], piece[P_D1], piece[P_D2], piece[P_D3]
+    d0 = piece[P_D0]
+    q = mu_k / (k_t * h)
+    tau = 0.0
+    switches = 0
+    for _ in range(MAX_SWITCHES_PER_STEP):
+        if abs(mode) == FLIGHT:
+            if tau == 0.0:  # landing at the piece start
+                mode, f = _touchdown(a, h, k_t, mass, piece[P_GRAVITY], mu_s, mu_k, v)
+                switches += 1
+                continue
+            # Lifted off inside the piece (N reached 0 at a switch): fly to its end.
+            d = 1.0 - tau
+            return x + h * v * d + 0.5 * h * h * fm * d * d, v + h * fm * d, 0.0, mode, switches
+        if mode == 0.0:
+            e_a = f - force
+            b_a = k_t * v / omega
+            p = (tau, theta, e_a, b_a, f, mu_s, 0.0)
+            bound = mu_s * d2 + theta * theta * (abs(e_a) + abs(b_a))
+            noise = _ROUNDING * (mu_s * d0 + abs(f) + abs(e_a) + abs(b_a))
+            tau_r = _first_exit(_STICK, a, p, bound, noise, tau, 1.0)
+            if tau_r < 0.0:
+                break
+            x, v, f = _stick_at(tau, x, v, f, force, omega, k_t, mass, theta, min(tau_r, 1.0))
+            if tau_r > 1.0:
+                return x, v, f, mode, switches
+            tau = tau_r
+            switches += 1
+            normal = nt.poly(a, tau)
+            if normal <= 0.0:
+                mode, f = FLIGHT, 0.0
+                continue
+            # Slip starts towards f, which drops to the kinetic limit; the point slides
+            # unless s u̇ <= 0 there (the same function as the stop search's).
+            s = sign(f)
+            f = s * mu_k * normal
+            p = (tau, h, v, s, fm, km, q)
+            mode = s if _inside(_SLIP, _value(_SLIP, a, p, tau)[0]) else 0.0
+            continue
+        s = mode
+        p = (tau, h, v, s, fm, km, q)
+        bound = km * h * d1 + q * d3
+        noise = _ROUNDING * (abs(v) + h * (abs(fm) + km * d0) + q * d1)
+        tau_s = _first_exit(_SLIP, a, p, bound, noise, tau, 1.0)
+        if tau_s < 0.0:
+            break
+        end = min(tau_s, 1.0)
+        x = slip_position(a, h, tau, x, v, s, fm, km, end)
+        v = s * _slip_speed(a, h, tau, v, s, fm, km, end)
+        normal = nt.poly(a, end)
+        f = s * mu_k * normal
+        if tau_s > 1.0:
+            return x, v, f, mode, switches
+        tau = tau_s
+        switches += 1
+        mode = 0.0  # the point comes to rest on the limit f = s μ_k N: it sticks
+        if normal <= 0.0:
+            mode, f = FLIGHT, 0.0
+    return x, v, f, mode, -1

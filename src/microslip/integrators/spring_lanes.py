@@ -1,0 +1,249 @@
+"""Many compliant tangential lanes on one shared normal motion: the time-domain map
+kernel of a contact point on a spring of constant stiffness (``TangentialSpring``).
+
+The normal motion is the tape of :mod:`microslip.integrators.normal_tape` (one per
+normal set-up: N as a quartic P(τ) per piece); each lane is a body on its spring under a
+constant force F, advanced over each piece in closed form by the law of
+:mod:`microslip.integrators.spring_lane_law`. A piece in flight (P = 0) moves every lane
+ballistically, its spring relaxed (the lift-off is applied to all lanes at once).
+
+A contact piece is a branch-free pass over the lanes (a few dozen flops each) that also
+bounds each lane's switching function over the piece: with |g''| <= M on [0, 1] (in τ),
+g >= min(g(0), g(1)) - M/8 (for the stick margin min(μ_s P ∓ f) this is
+min(μ_s P - |f|) at the two ends, less M/8). A lane whose bound does not prove the piece
+free of switches, or that lands on it, is redone alone by
+:func:`~microslip.integrators.spring_lane_law.lane_piece`.
+
+A lane's arithmetic depends only on its own parameters and its group's tape (no
+fastmath): its result is the same bits whatever the other lanes, their number, their
+order or the threads. Groups (normal set-ups) run in parallel over the cores
+(``prange``).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit, parallel_chunksize, prange
+
+from microslip import _jit_cache  # noqa: F401  (registers the cache before any @njit)
+from microslip.integrators import normal_tape as nt
+from microslip.integrators.shared_lanes import LANE_STALLED, OK, TAPE_ROWS
+from microslip.integrators.spring_lane_law import (
+    FLIGHT,
+    P_D0,
+    P_D1,
+    P_D2,
+    P_D3,
+    P_GRAVITY,
+    P_H,
+    P_KT,
+    P_MASS,
+    P_OMEGA,
+    P_THETA,
+    PIECE,
+    derivative_bounds,
+    lane_piece,
+)
+from microslip.model.coefficients import GRAVITY, MASS
+from microslip.model.normal import normal_force
+from microslip.model.system import N_STATE
+
+# Rows of the lane array of a group.
+FORCE, FM, KM, MU_S, MU_K, X, V, FS, MODE, FLAG = range(10)
+LANE_ROWS = 10
+
+
+@njit(cache=True, error_model="numpy")
+def _vector_pass(lanes, n, a, piece, h_int, h2_kint):
+    """A contact piece for every lane as if it held no switch: branch-free, vectorised.
+    A lane whose switching function may reach its boundary inside (module doc), or that
+    lands here, is flagged and keeps its state. Returns the number flagged."""
+    h, theta, omega, k_t = piece[P_H], piece[P_THETA], piece[P_OMEGA], piece[P_KT]
+    mass, d1, d2, d3 = piece[P_MASS], piece[P_D1], piece[P_D2], piece[P_D3]
+    sin_t = math.sin(theta)
+    half = math.sin(0.5 * theta)
+    cos_minus_one = -2.0 * half * half
+    sin_over_omega = sin_t / omega
+    sin_over_m_omega = sin_t / (mass * omega)
+    cm1_over_kt = cos_minus_one / k_t
+    kt_over_omega = k_t / omega
+    inv_kt_h = 1.0 / (k_t * h)
+    p0, p1 = a[0], nt.poly(a, 1.0)
+    rate0, rate1 = a[1], nt.poly_rate(a, 1.0)
+    theta2_8 = theta * theta / 8.0
+    d2_8 = d2 / 8.0
+    h_d1_8 = h * d1 / 8.0
+    d3_8 = d3 / 8.0
+    h2_half = 0.5 * h * h
+    n_flagged = 0
+    for i in range(n):
+        s = lanes[MODE, i]
+        xi, vi, fi = lanes[X, i], lanes[V, i], lanes[FS, i]
+        force, fm, km = lanes[FORCE, i], lanes[FM, i], lanes[KM, i]
+        mu_s, mu_k = lanes[MU_S, i], lanes[MU_K, i]
+        # Stick: the oscillator.
+        e0 = fi - force
+        b = kt_over_omega * vi
+        x_st = xi + e0 * cm1_over_kt + vi * sin_over_omega
+        v_st = vi * (1.0 + cos_minus_one) - e0 * sin_over_m_omega
+        f_st = fi + e0 * cos_minus_one + b * sin_t
+        margin = min(mu_s * p0 - abs(fi), mu_s * p1 - abs(f_st))
+        stick_low = margin - mu_s * d2_8 - theta2_8 * (abs(e0) + abs(b))
+        # Slip: the rigid law; its stop function s u̇ at the ends.
+        skm = s * km
+        v_sl = vi + (h * fm - skm * h_int)
+        x_sl = xi + (h * vi + h2_half * fm - skm * h2_kint)
+        q = mu_k * inv_kt_h
+        g_ends = min(s * vi - q * rate0, s * v_sl - q * rate1)
+        slip_low = g_ends - km * h_d1_8 - q * d3_8
+        stick = s == 0.0
+        landing = s * s > 1.5  # flight (mode 2): the touchdown is applied alone
+        flag = (stick & (stick_low <= 0.0)) | ((s != 0.0) & (slip_low <= 0.0)) | landing
+        lanes[FLAG, i] = 1.0 if flag else 0.0
+        lanes[X, i] = xi if flag else (x_st if stick else x_sl)
+        lanes[V, i] = vi if flag else (v_st if stick else v_sl)
+        lanes[FS, i] = fi if flag else (f_st if stick else s * mu_k * p1)
+        n_flagged += 1 if flag else 0
+    return n_flagged
+
+
+@njit(cache=True, error_model="numpy")
+def _flight_pass(lanes, n, h):
+    """A piece in flight for every lane: f = 0, m ẍ = F."""
+    h2_half = 0.5 * h * h
+    for i in range(n):
+        fm = lanes[FM, i]
+        vi = lanes[V, i]
+        lanes[X, i] += h * vi + h2_half * fm
+        lanes[V, i] = vi + h * fm
+
+
+@njit(cache=True)
+def _run_group(c, y0, ydot0, k_t, t_end, dt, lanes, switches, flagged):
+    """One normal set-up and its lanes, in place; returns the status."""
+    n = lanes.shape[1]
+    mass = c[MASS]
+    omega = math.sqrt(k_t / mass)
+    piece = np.empty(PIECE)
+    piece[P_OMEGA], piece[P_KT], piece[P_MASS], piece[P_GRAVITY] = omega, k_t, mass, c[GRAVITY]
+    # A lane at rest on a relaxed spring sticks in contact, flies out of it.
+    flying = normal_force(0.0, y0, ydot0, c) <= 0.0
+    for i in range(n):
+        lanes[MODE, i] = FLIGHT if flying else 0.0
+    carry = nt.start_tape(y0, ydot0)
+    tape = np.empty((TAPE_ROWS, nt.ROW))
+    work = np.zeros((nt.WORK_SCRATCH, N_STATE))
+    while True:
+        rows, tape_status = nt.fill_tape(carry, c, t_end, dt, tape, work)
+        if tape_status > 1:
+            return tape_status
+        for r in range(rows):
+            h = tape[r, nt.H]
+            a = nt.coefficients(tape, r)
+            in_flight = a[0] == 0.0 and a[1] == 0.0 and a[2] == 0.0 and a[3] == 0.0
+            in_flight = in_flight and a[4] == 0.0
+            if in_flight:
+                if not flying:  # lift-off: the spring relaxes (f = 0, u = x)
+                    for i in range(n):
+                        lanes[MODE, i], lanes[FS, i] = FLIGHT, 0.0
+                flying = True
+                _flight_pass(lanes, n, h)
+                continue
+            flying = False  # a lane that lands is flagged: the piece applies the touchdown
+            piece[P_H], piece[P_THETA] = h, omega * h
+            piece[P_D0], piece[P_D1], piece[P_D2], piece[P_D3] = derivative_bounds(a)
+            n_flagged = _vector_pass(
+                lanes, n, a, piece, h * tape[r, nt.INT1], h * h * tape[r, nt.KINT1]
+            )
+            for i in range(n):
+                if n_flagged == 0:
+                    break
+                if lanes[FLAG, i] != 0.0:
+                    n_flagged -= 1
+                    flagged[i] += 1
+                    xi, vi, fi, mi, k = lane_piece(
+                        a, piece, lanes[FORCE, i], lanes[FM, i], lanes[KM, i],
+                        lanes[MU_S, i], lanes[MU_K, i], lanes[X, i], lanes[V, i],
+                        lanes[FS, i], lanes[MODE, i],
+                    )  # fmt: skip
+                    if k < 0:
+                        return LANE_STALLED
+                    switches[i] += k
+                    lanes[X, i], lanes[V, i], lanes[FS, i], lanes[MODE, i] = xi, vi, fi, mi
+        if tape_status == 0:
+            return OK
+
+
+@njit(cache=True, parallel=True)
+def _run_groups(normal_c, y0, ydot0, stiffness, starts, lanes, switches, flagged, status, t_end,
+                dt):  # fmt: skip
+    for g in prange(normal_c.shape[0]):
+        lo, hi = starts[g], starts[g + 1]
+        group_lanes = np.ascontiguousarray(lanes[:, lo:hi])
+        group_switches = np.zeros(hi - lo, dtype=np.int64)
+        group_flagged = np.zeros(hi - lo, dtype=np.int64)
+        status[g] = _run_group(
+            normal_c[g].copy(), y0[g], ydot0[g], stiffness[g], t_end, dt, group_lanes,
+            group_switches, group_flagged,
+        )  # fmt: skip
+        lanes[:, lo:hi] = group_lanes
+        switches[lo:hi] = group_switches
+        flagged[lo:hi] = group_flagged
+
+
+def run_spring_lanes(normal_coeffs, normal_states0, stiffness, group_of_lane, forces,
+                     mu_static, mu_kinetic, t_end, dt):  # fmt: skip
+    """Final states of many compliant lanes (a contact point on a spring of constant
+    stiffness) on shared normal motions, each from rest with a relaxed spring (SI).
+
+    Parameters
+    ----------
+    normal_coeffs : (G, SIZE) coefficient vectors of the G normal set-ups (their
+        tangential slots are ignored; see :func:`normal_tape.normal_coefficients`).
+    normal_states0 : (G, 2) initial (y [m], ẏ [m/s]) of each set-up at t = 0.
+    stiffness : (G,) tangential stiffness k_t [N/m] of each set-up (> 0).
+    group_of_lane : (L,) int, the set-up of each lane, non-decreasing.
+    forces : (L,) constant tangential force F [N]; mu_static, mu_kinetic : (L,) [-].
+    t_end : end time [s]; dt : RK4 step of the normal motion [s] (grid k·dt).
+
+    Returns (x [m], ẋ [m/s], f [N], mode, switches, flagged) per lane at ``t_end``
+    (mode 0 stick, ±1 slip, 2 flight); raises RuntimeError if a normal integration or a
+    lane fails.
+    """
+    normal_coeffs = np.ascontiguousarray(normal_coeffs, dtype=np.float64)
+    states0 = np.asarray(normal_states0, dtype=np.float64)
+    stiffness = np.asarray(stiffness, dtype=np.float64)
+    group_of_lane = np.asarray(group_of_lane, dtype=np.int64)
+    if np.any(np.diff(group_of_lane) < 0):
+        raise ValueError("group_of_lane must be non-decreasing (lanes by set-up)")
+    if not np.all(stiffness > 0.0):
+        raise ValueError(f"stiffness must be > 0 N/m; got {stiffness.min()!r}")
+    n_groups = normal_coeffs.shape[0]
+    n_lanes = group_of_lane.size
+    counts = np.bincount(group_of_lane, minlength=n_groups)
+    starts = np.concatenate([[0], np.cumsum(counts)]).astype(np.int64)
+    forces = np.asarray(forces, dtype=np.float64)
+    mass = normal_coeffs[group_of_lane, MASS]
+    mu_k = np.asarray(mu_kinetic, dtype=np.float64) * np.ones(n_lanes)
+    lanes = np.zeros((LANE_ROWS, n_lanes))
+    lanes[FORCE] = forces
+    lanes[FM] = forces / mass
+    lanes[KM] = mu_k / mass
+    lanes[MU_S] = mu_static
+    lanes[MU_K] = mu_k
+    switches = np.zeros(n_lanes, dtype=np.int64)
+    flagged = np.zeros(n_lanes, dtype=np.int64)
+    status = np.zeros(n_groups, dtype=np.int64)
+    with parallel_chunksize(1):
+        _run_groups(
+            normal_coeffs, states0[:, 0].copy(), states0[:, 1].copy(), stiffness, starts,
+            lanes, switches, flagged, status, float(t_end), float(dt),
+        )  # fmt: skip
+    bad = np.flatnonzero(status != OK)
+    if bad.size:
+        g = int(bad[0])
+        what = "a lane stalled" if status[g] == LANE_STALLED else "the normal integration failed"
+        raise RuntimeError(f"spring-lane kernel: {what} in set-up {g} (status {status[g]})")
+    return lanes[X], lanes[V], lanes[FS], lanes[MODE], switches, flagged

@@ -1,0 +1,93 @@
+"""The spring-lane kernel (integrators/spring_lanes.py) at constant N, where the contact
+point on its spring has a closed form, and its determinism and input checks.
+
+At rest in the static deflection (A = 0) the normal force is m g throughout. From rest
+with a relaxed spring the body oscillates on k_t about F/k_t: x = (F/k_t)(1 - cos ωt),
+ω = sqrt(k_t/m), while |f| = F(1 - cos ωt) <= μ_s N. Above μ_s N/2 the spring force
+reaches μ_s N at cos ωt1 = 1 - μ_s N/F: the point slips with f = μ_k N, the body
+decelerates at (μ_k N - F)/m until ẋ = u̇ = 0 and sticks again with f = μ_k N, then
+oscillates about F/k_t with the amplitude (μ_k N - F)/k_t, never reaching μ_s N again.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+import microslip as ms
+from microslip.integrators.normal_tape import normal_coefficients
+from microslip.integrators.spring_lanes import run_spring_lanes
+from microslip.simulation import initial_state_from_amplitude
+
+P = ms.Parameters()
+K_T = P.contact_stiffness
+OMEGA = math.sqrt(K_T / P.mass)
+N = P.mass * P.g
+DT = 2.0 * math.pi / OMEGA / 200.0
+
+
+def _run(forces, amplitudes, duration, mu_s=P.mu, mu_k=P.mu, stiffness=K_T):
+    """x(duration) [m] per lane, amplitude-major then force, and the switch counts."""
+    model = ms.Model(P, tangential=ms.TangentialSpring(stiffness))
+    normal0 = np.array([initial_state_from_amplitude(P, a)[:2] for a in amplitudes])
+    coeffs = np.repeat(normal_coefficients(model.pack(0.0))[None], len(amplitudes), axis=0)
+    groups = np.repeat(np.arange(len(amplitudes)), len(forces))
+    out = run_spring_lanes(coeffs, normal0, [stiffness] * len(amplitudes), groups,
+                           np.tile(forces, len(amplitudes)), mu_s, mu_k, duration, DT)  # fmt: skip
+    return out[0], out[4]
+
+
+def test_stick_is_the_oscillator_on_the_spring():
+    """F < μ N/2: x(t) = (F/k_t)(1 - cos ωt) at every duration, no switch."""
+    forces = np.array([0.1, 0.3, 0.45])
+    for duration in (0.3e-3, 1.1e-3, 2.5e-3):
+        x, switches = _run(forces, [0.0], duration)
+        expected = forces / K_T * (1.0 - np.cos(OMEGA * duration))
+        np.testing.assert_allclose(x, expected, rtol=1e-9, atol=1e-12 * forces.max() / K_T)
+        assert not switches.any()
+
+
+def test_release_slip_and_stop_at_constant_normal_force():
+    """μ_s N/2 < F < μ_k N with μ_s = 0.15, μ_k = 0.1: release, slip, stop, stick."""
+    mu_s, mu_k, force = 0.15, 0.1, 0.85
+    cos_release = 1.0 - mu_s * N / force
+    t1 = math.acos(cos_release) / OMEGA
+    x1 = mu_s * N / K_T
+    v1 = force / K_T * OMEGA * math.sin(OMEGA * t1)
+    deceleration = (mu_k * N - force) / P.mass
+    t_stop = t1 + v1 / deceleration
+    x_stop = x1 + v1 * v1 / (2.0 * deceleration)
+    amplitude = (mu_k * N - force) / K_T
+    for duration in (0.9 * t1, t_stop + 0.37e-3, t_stop + 2.2e-3):
+        x, switches = _run([force], [0.0], duration, mu_s, mu_k)
+        if duration < t1:
+            expected = force / K_T * (1.0 - math.cos(OMEGA * duration))
+        else:
+            expected = x_stop - amplitude * (1.0 - math.cos(OMEGA * (duration - t_stop)))
+        assert x[0] == pytest.approx(expected, rel=1e-9)
+        assert switches[0] == (0 if duration < t1 else 2)
+
+
+def test_a_lane_is_the_same_bits_whatever_the_other_lanes():
+    """The same (force, amplitude) alone, among other forces, in another order or with
+    another set-up before it: the same bits."""
+    amplitudes = [0.7e-7, 1.4e-7]
+    forces = np.array([0.2, 0.55, 0.9])
+    x_all, _ = _run(forces, amplitudes, 2e-3)
+    x_alone, _ = _run(forces[[1]], amplitudes[1:], 2e-3)
+    x_reversed, _ = _run(forces[::-1], amplitudes[::-1], 2e-3)
+    assert x_alone[0] == x_all[4]
+    np.testing.assert_array_equal(x_reversed[:3], x_all[3:][::-1])
+
+
+def test_bad_input_is_refused_in_one_line():
+    coeffs = normal_coefficients(ms.Model(P).pack(0.0))[None]
+    normal0 = np.array([[P.static_deflection, 0.0]])
+    with pytest.raises(ValueError, match="stiffness must be > 0"):
+        run_spring_lanes(coeffs, normal0, [0.0], [0], [0.5], 0.1, 0.1, 1e-3, DT)
+    two = np.repeat(coeffs, 2, axis=0)
+    with pytest.raises(ValueError, match="non-decreasing"):
+        run_spring_lanes(two, np.repeat(normal0, 2, axis=0), [K_T, K_T], [1, 0], [0.5, 0.5],
+                         0.1, 0.1, 1e-3, DT)  # fmt: skip
