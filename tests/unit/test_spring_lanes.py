@@ -17,6 +17,7 @@ import numpy as np
 import pytest
 
 import microslip as ms
+from microslip.integrators import spring_lane_law as law
 from microslip.integrators.normal_tape import normal_coefficients
 from microslip.integrators.spring_lanes import run_spring_lanes
 from microslip.simulation import initial_state_from_amplitude
@@ -91,3 +92,17 @@ def test_bad_input_is_refused_in_one_line():
     with pytest.raises(ValueError, match="non-decreasing"):
         run_spring_lanes(two, np.repeat(normal0, 2, axis=0), [K_T, K_T], [1, 0], [0.5, 0.5],
                          0.1, 0.1, 1e-3, DT)  # fmt: skip
+
+
+@pytest.mark.parametrize("tau_root", [0.03, 0.3, 0.9])
+def test_a_stick_from_its_limit_finds_the_next_release(tau_root):
+    """The search that follows every stop: the margin starts at a double zero
+    (g = c τ² (τ_r - τ), the limit μ_s P against a constant spring force) and must find
+    its next root at τ_r, neither stepping over it nor creeping out of the start."""
+    mu_s, force, c = 0.1, 0.5, 0.02
+    a = (force / mu_s, 0.0, c * tau_root / mu_s, -c / mu_s, 0.0)
+    d0, _, d2, d3 = law.derivative_bounds(a)
+    p = (0.0, 0.01, 0.0, 0.0, force, mu_s, 0.0)  # τ_a, θ, e_a = 0, k_t ẋ_a/ω = 0, f_a, μ_s
+    noise = 1e-15 * (mu_s * d0 + force)
+    tau = law._first_exit(law._STICK, a, p, mu_s * d2, mu_s * d3, noise, 0.0, 1.0)
+    assert tau_root <= tau <= tau_root + 1e-9

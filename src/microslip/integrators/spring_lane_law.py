@@ -30,8 +30,10 @@ branches μ_s P ∓ f, or s u̇) from its inside, found by marching from the pie
 in safe steps: with |g''| <= M on the piece (from bounds of the quartic's derivatives
 and the oscillator's amplitude), g cannot reach 0 sooner than the root of
 g + g' s - M s²/2, so no crossing is skipped; near a simple root the steps are Newton's
-from the inside. The instant is located to within ~1e-12 of the piece, which keeps the
-4th order of the normal RK4 integration (tests/validation/test_spring_lanes_order.py).
+from the inside, and where g'' > 0 a bound of g''' clears 1.5 g''/M3 at once (the
+double zero of the stick margin after every stop). The instant is located to within
+~1e-12 of the piece, which keeps the 4th order of the normal RK4 integration
+(tests/validation/test_spring_lanes_order.py).
 """
 
 from __future__ import annotations
@@ -75,8 +77,8 @@ def derivative_bounds(a):
 
 @njit(cache=True, inline="always")
 def _value(kind, a, p, tau):
-    """(g1, dg1/dτ, g2, dg2/dτ) at τ: the switching function sought is min(g1, g2),
-    each smooth on the piece, from the state at p[0] = τ_a.
+    """(g1, g1', g1'', g2, g2', g2'') at τ, derivatives in τ: the switching function
+    sought is min(g1, g2), each smooth on the piece, from the state at p[0] = τ_a.
 
     Stick, p = (τ_a, θ = ω h, e_a, k_t ẋ_a/ω, f_a, μ_s): g1,2 = μ_s P ∓ f [N], whose
     minimum μ_s P - |f| is >= 0 while stick holds (its kink where f = 0 is why the two
@@ -91,14 +93,20 @@ def _value(kind, a, p, tau):
         cd, sd = math.cos(d), math.sin(d)
         half = math.sin(0.5 * d)
         spring = f_a - 2.0 * e_a * half * half + b_a * sd
-        spring_rate = theta * (b_a * cd - e_a * sd)
+        spring_1 = theta * (b_a * cd - e_a * sd)
+        spring_2 = -theta * theta * (e_a * cd + b_a * sd)
         limit = mu_s * nt.poly(a, tau)
-        limit_rate = mu_s * nt.poly_rate(a, tau)
-        return limit - spring, limit_rate - spring_rate, limit + spring, limit_rate + spring_rate
+        limit_1 = mu_s * nt.poly_rate(a, tau)
+        limit_2 = mu_s * _rate2(a, tau)
+        return (
+            limit - spring, limit_1 - spring_1, limit_2 - spring_2,
+            limit + spring, limit_1 + spring_1, limit_2 + spring_2,
+        )  # fmt: skip
     h, v_a, s, fm, km, q = p[1], p[2], p[3], p[4], p[5], p[6]
     value = _slip_speed(a, h, tau_a, v_a, s, fm, km, tau) - q * nt.poly_rate(a, tau)
     rate = h * (s * fm - km * nt.poly(a, tau)) - q * _rate2(a, tau)
-    return value, rate, value, rate
+    curvature = -h * km * nt.poly_rate(a, tau) - q * (6.0 * a[3] + 24.0 * a[4] * tau)
+    return value, rate, curvature, value, rate, curvature
 
 
 @njit(cache=True, inline="always")
@@ -108,22 +116,35 @@ def _inside(kind, value):
 
 
 @njit(cache=True, inline="always")
-def _safe_step(g, r, bound):
-    """The largest s with g + r s' - bound s'²/2 > 0 on [0, s): no root of a function
-    of value g > 0 (or g = 0 rising) and slope r, with |g''| <= bound, lies closer."""
-    if bound <= 0.0:
-        return g / -r if r < 0.0 else math.inf
-    root = math.sqrt(r * r + 2.0 * bound * g)
-    if r < 0.0:
-        return 2.0 * g / (root - r)  # the same root, without cancellation
-    return (r + root) / bound
+def _safe_step(g, r, c, bound2, bound3):
+    """A distance s > 0 within which a function of value g > 0 (or g = 0 rising), slope
+    r and curvature c has no root, given |g''| <= bound2 and |g'''| <= bound3 on the
+    piece: the larger of two proofs.
+
+    First order: g + r s' - bound2 s'²/2 > 0 on [0, s) (near a simple root, a Newton
+    step from the inside). Second order, where c > 0 and g is not falling faster than
+    r² <= c g: g + r s' + c s'²/2 - bound3 s'³/6 > 0 on [0, 1.5 c/bound3] (its minimum
+    there is >= g - 3r²/(4c) > 0). The second clears at once a stick that starts on its
+    limit with the margin rising from a double zero (every stop: f = μ_k N, and the
+    margin's rate -k_t s u̇ is 0 there), which the first would creep out of
+    geometrically."""
+    if bound2 <= 0.0:
+        first = g / -r if r < 0.0 else math.inf
+    else:
+        root = math.sqrt(r * r + 2.0 * bound2 * g)
+        # The same root, without cancellation when r < 0.
+        first = 2.0 * g / (root - r) if r < 0.0 else (r + root) / bound2
+    if c > 0.0 and bound3 > 0.0 and (r >= 0.0 or r * r <= c * g):
+        return max(first, 1.5 * c / bound3)
+    return first
 
 
 @njit(cache=True)
-def _first_exit(kind, a, p, bound, noise, lo, hi):
+def _first_exit(kind, a, p, bound2, bound3, noise, lo, hi):
     """First τ in [lo, hi] where the switching function is outside (the returned τ is,
-    just past the crossing), 2 if none, -1 if the search stalled. ``bound`` >=
-    |d²g/dτ²| on the piece; ``noise`` [units of g] the rounding of g.
+    just past the crossing), 2 if none, -1 if the search stalled. ``bound2``,
+    ``bound3`` >= |d²g/dτ²|, |d³g/dτ³| on the piece; ``noise`` [units of g] the
+    rounding of g.
 
     It marches by safe steps (:func:`_safe_step`), so no crossing is skipped: near a
     simple root the steps are Newton's from the inside (quadratic). The steps take g as
@@ -132,16 +153,19 @@ def _first_exit(kind, a, p, bound, noise, lo, hi):
     at constant N) is passed in a few steps instead of crept along."""
     tau = lo
     for _ in range(_MAX_STEPS):
-        g1, r1, g2, r2 = _value(kind, a, p, tau)
+        g1, r1, c1, g2, r2, c2 = _value(kind, a, p, tau)
         if not _inside(kind, min(g1, g2)):
             return tau
-        step = min(_safe_step(g1 + noise, r1, bound), _safe_step(g2 + noise, r2, bound))
+        step = min(
+            _safe_step(g1 + noise, r1, c1, bound2, bound3),
+            _safe_step(g2 + noise, r2, c2, bound2, bound3),
+        )
         step = max(step, 0.5 * _TAU_TOLERANCE)
         tau += step
         if tau >= hi:
             if step > 0.5 * _TAU_TOLERANCE:
                 return 2.0  # [τ, hi] was safe
-            g1, _, g2, _ = _value(kind, a, p, hi)
+            g1, _, _, g2, _, _ = _value(kind, a, p, hi)
             return hi if not _inside(kind, min(g1, g2)) else 2.0
     return -1.0
 
@@ -203,9 +227,11 @@ def lane_piece(a, piece, force, fm, km, mu_s, mu_k, x, v, f, mode):
             e_a = f - force
             b_a = k_t * v / omega
             p = (tau, theta, e_a, b_a, f, mu_s, 0.0)
-            bound = mu_s * d2 + theta * theta * (abs(e_a) + abs(b_a))
-            noise = _ROUNDING * (mu_s * d0 + abs(f) + abs(e_a) + abs(b_a))
-            tau_r = _first_exit(_STICK, a, p, bound, noise, tau, 1.0)
+            amplitude = abs(e_a) + abs(b_a)  # of the oscillation of f
+            bound2 = mu_s * d2 + theta * theta * amplitude
+            bound3 = mu_s * d3 + theta * theta * theta * amplitude
+            noise = _ROUNDING * (mu_s * d0 + abs(f) + amplitude)
+            tau_r = _first_exit(_STICK, a, p, bound2, bound3, noise, tau, 1.0)
             if tau_r < 0.0:
                 break
             x, v, f = _stick_at(tau, x, v, f, force, omega, k_t, mass, theta, min(tau_r, 1.0))
@@ -226,9 +252,10 @@ def lane_piece(a, piece, force, fm, km, mu_s, mu_k, x, v, f, mode):
             continue
         s = mode
         p = (tau, h, v, s, fm, km, q)
-        bound = km * h * d1 + q * d3
+        bound2 = km * h * d1 + q * d3
+        bound3 = km * h * d2 + q * 24.0 * abs(a[4])
         noise = _ROUNDING * (abs(v) + h * (abs(fm) + km * d0) + q * d1)
-        tau_s = _first_exit(_SLIP, a, p, bound, noise, tau, 1.0)
+        tau_s = _first_exit(_SLIP, a, p, bound2, bound3, noise, tau, 1.0)
         if tau_s < 0.0:
             break
         end = min(tau_s, 1.0)
