@@ -10,7 +10,8 @@ import numpy as np
 
 from microslip.model.composition import Model
 from microslip.model.parameters import Parameters
-from microslip.model.system import EVENT_NAMES, interface_samples, normal_samples
+from microslip.model.samples import interface_samples, normal_samples
+from microslip.model.system import EVENT_NAMES
 
 STICK, SLIP, FLIGHT = 0, 1, 2
 STATE_MEANINGS = "stick slip flight"

@@ -18,7 +18,8 @@ from microslip.model.composition import Model, as_model
 from microslip.model.contact import potential_energy
 from microslip.model.excitation import PrescribedPenetration
 from microslip.model.parameters import POSITION_LIMIT, Parameters
-from microslip.model.system import FT, XDOT, YDOT, U, X, Y, slip_directions, state_array
+from microslip.model.samples import state_array
+from microslip.model.system import FT, XDOT, YDOT, U, X, Y, slip_directions
 from microslip.results import SimulationResult
 from microslip.validation import DEFAULT_RK4_STEPS_PER_PERIOD, RK4_MAX_STEP_FRACTION
 

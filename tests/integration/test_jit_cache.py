@@ -28,7 +28,8 @@ PROBE = f"""
 import json, microslip, numpy as np
 from microslip.integrators.steppers import WORK_ROWS, rk4_step
 from microslip.model.coefficients import pack
-from microslip.model.system import N_STATE, state_array
+from microslip.model.samples import state_array
+from microslip.model.system import N_STATE
 p = microslip.Parameters()
 s, out = state_array(p.static_deflection, 0.0), np.empty(N_STATE)
 rk4_step(s, 0.0, {H!r}, 0.0, pack(p, 0.0), out, np.empty((WORK_ROWS, N_STATE)))

@@ -22,7 +22,7 @@ from numba.core import types
 import microslip as ms
 from microslip.integrators import kernel, methods, switching
 from microslip.integrators.batched import simulate_batch
-from microslip.model import system
+from microslip.model import switches, system
 from microslip.model.coefficients import pack
 
 PACKAGE = Path(ms.__file__).resolve().parent
@@ -30,7 +30,7 @@ PACKAGE = Path(ms.__file__).resolve().parent
 DISPATCHERS = {
     "switching_value": system.switching_value,
     "switching_rate": system.switching_rate,
-    "apply_switch": system.apply_switch,
+    "apply_switch": switches.apply_switch,
     "_screen": switching._screen,
     "_resolve": switching._resolve,
     "locate": switching.locate,

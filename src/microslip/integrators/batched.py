@@ -72,15 +72,9 @@ from microslip.integrators.methods import RK4, WORK_ROWS
 from microslip.integrators.steppers import rk4_step
 from microslip.integrators.switching import NO_SWITCH, may_switch
 from microslip.model.coefficients import SIZE
-from microslip.model.system import (
-    N_STATE,
-    X,
-    apply_switch,
-    full_states,
-    initial_mode,
-    slip_directions,
-    state_tuple,
-)
+from microslip.model.samples import full_states
+from microslip.model.switches import apply_switch, initial_mode
+from microslip.model.system import N_STATE, X, slip_directions, state_tuple
 
 __all__ = ["DEFAULT_BLOCK", "BatchResult", "simulate_batch", "time_grid"]
 

@@ -11,7 +11,9 @@ import numpy as np
 
 from microslip.integrators import kernel
 from microslip.integrators.methods import DOP853, RK4
-from microslip.model.system import EVENT_NAMES, full_states, initial_mode
+from microslip.model.samples import full_states
+from microslip.model.switches import initial_mode
+from microslip.model.system import EVENT_NAMES
 
 METHODS = {"rk4": RK4, "event": DOP853}
 MAX_STEPS_PER_CALL = 1 << 20  # steps of one kernel call when every n-th step is kept

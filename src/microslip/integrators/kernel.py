@@ -28,7 +28,8 @@ from microslip.integrators.methods import CONTROLLER_EXPONENT, RK4, WORK_ROWS, a
 from microslip.integrators.steppers import rk4_step
 from microslip.integrators.switching import NO_SWITCH, first_switch, may_switch
 from microslip.model.coefficients import SIZE
-from microslip.model.system import NO_EVENT, apply_switch, state_tuple
+from microslip.model.switches import apply_switch
+from microslip.model.system import NO_EVENT, state_tuple
 
 # Slots of the carry vector that holds the loop state between calls; the state follows.
 C_T, C_MODE, C_H, C_K, C_BOUNDARY, C_TEVAL, C_T0, C_STEPS, C_REJECTS = range(9)

@@ -60,13 +60,8 @@ from microslip.model.normal import (
     normal_acceleration,
     raw_normal_force,
 )
-from microslip.model.system import (
-    airborne,
-    apply_switch,
-    initial_mode,
-    separation_rate,
-    separation_value,
-)
+from microslip.model.switches import apply_switch, initial_mode
+from microslip.model.system import airborne, separation_rate, separation_value
 from microslip.model.tangential import RIGID
 
 # Columns of a tape row.

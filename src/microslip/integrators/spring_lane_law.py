@@ -18,12 +18,12 @@ Each has a closed form over a piece. Stick is the harmonic oscillator of e = f -
     x = x_a + (e_a/k_t)(cos d - 1) + (ẋ_a/ω) sin d;
 
 slip is the rigid formula on the tape's integrals (:func:`shared_lanes.slip_speed`);
-flight is uniform acceleration. The switches are those of :mod:`microslip.model.system`:
+flight is uniform acceleration. The switches are those of :mod:`microslip.model.switches`:
 a release at |f| = μ_s N (the spring force drops to μ_k N; the point slides unless
 s u̇ <= 0 there), a stop at s u̇ = 0 (stick with f = s μ_k N), a loss of contact (the
 tape's piece ends; f = 0) and a touchdown with a relaxed spring (stick, unless it
 grazes, N = 0+, and the spring loads faster than the limit rises: then slip on the
-limit, the rule of ``system._touchdown_mode``).
+limit, the rule of ``switches._touchdown_mode``).
 
 Each switching instant is the first exit of a function g (the stick margin's two smooth
 branches μ_s P ∓ f, or s u̇) from its inside, found by marching from the piece's start
@@ -47,7 +47,8 @@ from microslip.integrators import normal_tape as nt
 from microslip.integrators.kernel import MAX_SWITCHES_PER_STEP
 from microslip.integrators.shared_lanes import slip_position
 from microslip.integrators.shared_lanes import slip_speed as _slip_speed
-from microslip.model.system import GRAZING, sign
+from microslip.model.switches import GRAZING
+from microslip.model.system import sign
 
 FLIGHT = 2.0  # the mode of a lane out of contact (system.FLIGHT: a relaxed spring)
 _TAU_TOLERANCE = 1e-12  # of a piece, as in shared_lanes

@@ -1,6 +1,10 @@
 """The composed system that the integrators advance (docs/design.md, "state layout").
 
-This is the only module that knows what the state variables mean. The integrators see
+This module and its two companions are the only ones that know what the state variables
+mean: here the state, the mode, the right-hand side and the switching functions (when a
+switch happens), :mod:`microslip.model.switches` what a switch does, and
+:mod:`microslip.model.samples` the states and forces of a trajectory's output. The
+integrators see
 
 * a state ``s``: a float64 array of :data:`N_STATE` values, here
   s = [y [m], ẏ [m/s], x [m], ẋ [m/s], u [m], f [N]]: the body's normal and tangential
@@ -63,11 +67,11 @@ from microslip.model.normal import (
     normal_acceleration,
     normal_force,
     normal_force_rate,
-    raw_normal_force,
 )
 from microslip.model.tangential import is_compliant, tangential_stiffness
 
 __all__ = [
+    "AIRBORNE",
     "CONTACT_GAP",
     "EVENT_NAMES",
     "N_STATE",
@@ -76,31 +80,29 @@ __all__ = [
     "SLIDING_SPEED",
     "STICK_MARGIN",
     "airborne",
-    "apply_switch",
+    "contact_point_rates",
     "derivatives",
-    "full_states",
+    "flight_flag",
     "holds_only_inside",
     "in_contact",
-    "initial_mode",
     "inside",
-    "interface_samples",
     "is_paper_model",
     "normal_acceleration_call",
     "normal_force_call",
     "normal_force_rate_call",
-    "normal_samples",
     "separation_rate",
     "separation_value",
     "slip_directions",
-    "state_array",
     "state_tuple",
     "switch_active",
     "switching_rate",
     "switching_value",
+    "tangential_mode",
 ]
 
-# State layout. Only this module (and the paper-model fast pass of the batched kernel,
-# which imports these names) indexes the state by meaning.
+# State layout. Only the model's system modules (this one, switches.py, samples.py) and
+# the paper-model fast pass of the batched kernel, which import these names, index the
+# state by meaning.
 N_STATE = 6
 Y, YDOT, X, XDOT, U, FT = 0, 1, 2, 3, 4, 5
 
@@ -132,21 +134,21 @@ FLIGHT = 2.0  # |mode| of a compliant contact point in flight (its law until tou
 # Added to the mode (0, ±1) of a rigid contact in flight when the model is damped. The
 # undamped laws are continuous at touchdown (N = S c_n δ^m2 -> 0), so there the stage
 # states decide, as in the paper's scheme and its vectorised pass.
-_AIRBORNE = 4.0
+AIRBORNE = 4.0
 _FLAGGED_ABOVE = 2.5  # modes above it carry the flag (3, 4, 5); every other one is < 2.5
 
 
 @njit(cache=True, inline="always")
-def _flight_flag(c):
-    """What a rigid contact adds to its mode in flight: _AIRBORNE for a damped model, 0
-    for an undamped one (the stage states decide there, see _AIRBORNE)."""
-    return _AIRBORNE if can_separate_in_overlap(c) else 0.0
+def flight_flag(c):
+    """What a rigid contact adds to its mode in flight: AIRBORNE for a damped model, 0
+    for an undamped one (the stage states decide there, see AIRBORNE)."""
+    return AIRBORNE if can_separate_in_overlap(c) else 0.0
 
 
 @njit(cache=True, inline="always")
-def _tangential_mode(mode):
+def tangential_mode(mode):
     """The interface part of ``mode``: 0 (stick), ±1 (slip), ±2 (compliant flight)."""
-    return mode - _AIRBORNE if mode > _FLAGGED_ABOVE else mode
+    return mode - AIRBORNE if mode > _FLAGGED_ABOVE else mode
 
 
 @njit(cache=True, inline="always")
@@ -159,7 +161,7 @@ def slip_directions(modes: np.ndarray) -> np.ndarray:
     """The slip direction (-1, 0 = stick, +1) of recorded modes: a compliant contact
     point in flight (±2) gives ±1, a rigid contact in flight its tangential mode."""
     modes = np.asarray(modes, dtype=float)
-    return np.sign(np.where(modes > _FLAGGED_ABOVE, modes - _AIRBORNE, modes))
+    return np.sign(np.where(modes > _FLAGGED_ABOVE, modes - AIRBORNE, modes))
 
 
 @njit(cache=True, inline="always")
@@ -226,7 +228,7 @@ def _body_slip_acceleration(normal, t, s, mode, c):
     """ẍ [m/s^2] of a body on a rigid contact sliding in ``mode`` = sgn ẋ (eqs. 2.2,
     2.5): m ẍ = F(t, x) - μ(|ẋ|) N sgn ẋ; 0 in stick (mode 0) and with the kinematic
     drive."""
-    direction = _tangential_mode(mode)
+    direction = tangential_mode(mode)
     if direction == 0.0 or is_kinematic(c):
         return 0.0
     friction = kinetic_coefficient(s[XDOT], c) * normal
@@ -234,7 +236,7 @@ def _body_slip_acceleration(normal, t, s, mode, c):
 
 
 @njit(cache=True, inline="always")
-def _contact_point_rates(t, s, mode, normal, c):
+def contact_point_rates(t, s, mode, normal, c):
     """(u̇ [m/s], ḟ [N/s]) of the compliant contact point.
 
     Flight (N = 0): the spring is relaxed and follows the body (u̇ = ẋ, ḟ = 0). Stick:
@@ -258,10 +260,10 @@ def _contact_point_rates(t, s, mode, normal, c):
 
 @njit(cache=True, error_model="numpy")
 def _contact_point_rates_call(t, s, mode, normal, c):
-    """:func:`_contact_point_rates` behind a compiled call, for the switching functions
+    """:func:`contact_point_rates` behind a compiled call, for the switching functions
     (four copies of it, each with the tangential and friction laws inside, made
     switching_rate's compile seconds longer)."""
-    return _contact_point_rates(t, s, mode, normal, c)
+    return contact_point_rates(t, s, mode, normal, c)
 
 
 @njit(cache=True, inline="always")
@@ -284,7 +286,7 @@ def derivatives(t, s, mode, c):
     yd = s[YDOT]
     normal = 0.0 if airborne(mode) else normal_force(t, y, yd, c)
     if is_compliant(c):
-        udot, fdot = _contact_point_rates(t, s, mode, normal, c)
+        udot, fdot = contact_point_rates(t, s, mode, normal, c)
     else:
         udot, fdot = 0.0, 0.0
     return (
@@ -330,7 +332,7 @@ def switch_active(which, mode, c):
         return True
     if which == SEPARATION:
         return can_separate_in_overlap(c)
-    direction = _tangential_mode(mode)
+    direction = tangential_mode(mode)
     if which == STICK_MARGIN:
         return direction == 0.0
     return direction == 1.0 or direction == -1.0
@@ -418,7 +420,7 @@ def switching_value(which, t, s, mode, c):
         return separation_value(delta, delta_rate, c)
     if which == STICK_MARGIN:
         return friction_limit(normal_force_call(t, y, yd, c), c) - abs(_held_force(t, s, c))
-    direction = _tangential_mode(mode)
+    direction = tangential_mode(mode)
     return direction * _interface_velocity(t, s, direction, c)
 
 
@@ -444,7 +446,7 @@ def switching_rate(which, t, s, mode, c):
     if is_compliant(c) and normal_force_call(t, y, yd, c) > 0.0:
         return mode * _contact_point_acceleration(t, s, mode, c)
     normal = 0.0 if airborne(mode) else normal_force_call(t, y, yd, c)
-    direction = _tangential_mode(mode)
+    direction = tangential_mode(mode)
     return direction * _body_acceleration(normal, t, s, direction, c)
 
 
@@ -453,235 +455,3 @@ def in_contact(t, s, c):
     """True in contact: δ > 0 and N_raw > 0 (the separation function's sign)."""
     delta, delta_rate, _ = gap(t, s[Y], s[YDOT], c)
     return delta > 0.0 and separation_value(delta, delta_rate, c) > 0.0
-
-
-@njit(cache=True, inline="always")
-def _flight_mode(s):
-    return -FLIGHT if s[XDOT] < 0.0 else FLIGHT
-
-
-@njit(cache=True, inline="always")
-def _lift_off(s):
-    """(mode, event) of a compliant contact point leaving contact: the spring relaxes
-    (f = 0, u = x, in place in ``s``) and the point flies with the body."""
-    s[FT] = 0.0
-    s[U] = s[X]
-    return _flight_mode(s), CONTACT_LOST
-
-
-@njit(cache=True, inline="always")
-def _drop_to_kinetic_limit(t, s, direction, normal, c):
-    """A compliant contact point starts to slip in ``direction``: its spring force drops
-    to the kinetic limit μ_k N at once and the massless point jumps as the spring
-    recovers (f = k_t (x - u) in the spring's own increments), in place in ``s``."""
-    held = s[FT]
-    s[FT] = direction * kinetic_coefficient(0.0, c) * normal
-    stiffness = tangential_stiffness(gap(t, s[Y], s[YDOT], c)[0], c)
-    if stiffness > 0.0:
-        s[U] += (held - s[FT]) / stiffness
-
-
-@njit(cache=True)
-def initial_mode(t, s, c):
-    """Friction mode at a state (eq. 2.2): stick iff the held force is within μ_s N.
-
-    Rigid contact: sgn ẋ when the body moves; otherwise stick iff |F| <= μ_s N, else
-    slip towards F, + 4 in flight for a damped model (module doc). Compliant: stick iff
-    |f| <= μ_s N, else slip towards f, with f set to the kinetic limit μ_k N (in place in
-    ``s``); in flight the label ±2 (sgn ẋ).
-    """
-    normal = normal_force_call(t, s[Y], s[YDOT], c)
-    if is_compliant(c):
-        if normal <= 0.0:
-            return _flight_mode(s)
-        if abs(s[FT]) <= friction_limit(normal, c):
-            return 0.0
-        direction = sign(s[FT])
-        _drop_to_kinetic_limit(t, s, direction, normal, c)
-        return direction
-    offset = 0.0 if normal > 0.0 else _flight_flag(c)
-    return _rigid_direction(t, s, normal, c) + offset
-
-
-@njit(cache=True, inline="always")
-def _rigid_direction(t, s, normal, c):
-    """Slip direction of a body on a rigid contact at a state (eq. 2.2): sgn ẋ when it
-    moves; at rest stick iff |F| <= μ_s N, else slip towards F."""
-    if s[XDOT] != 0.0:
-        return sign(s[XDOT])
-    force = drive_force(t, s[X], c)
-    if abs(force) <= friction_limit(normal, c):
-        return 0.0
-    return sign(force)
-
-
-# Friction limit [in units of m g] below which a touchdown is taken as grazing (N = 0+):
-# the spring, relaxed, then sticks only if the limit rises at least as fast as it loads.
-GRAZING = 1e-12
-
-
-@njit(cache=True)
-def _touchdown_mode(t, s, c):
-    """Mode of a compliant contact point at touchdown (relaxed spring, f = 0).
-
-    With a force jump (Kelvin–Voigt) the point sticks: 0 = f < μ_s N. At a grazing
-    touchdown (N = 0+) stick holds only if μ_s dN/dt >= k_t |ẋ|; otherwise the point
-    slides with the body's direction on the limit f = μ_k N (= 0+).
-    """
-    normal = normal_force_call(t, s[Y], s[YDOT], c)
-    if friction_limit(normal, c) > GRAZING * c[MASS] * c[GRAVITY] or s[XDOT] == 0.0:
-        return 0.0
-    limit_rate = friction_limit_rate(normal_force_rate_call(t, s[Y], s[YDOT], c), c)
-    loading = tangential_stiffness(gap(t, s[Y], s[YDOT], c)[0], c) * abs(s[XDOT])
-    if limit_rate >= loading:
-        return 0.0
-    direction = sign(s[XDOT])
-    s[FT] = direction * kinetic_coefficient(0.0, c) * normal
-    return direction
-
-
-@njit(cache=True)
-def _compliant_switch(which, t, s, mode, c):
-    """(new mode, event) of a compliant contact point after a friction switch."""
-    normal = normal_force_call(t, s[Y], s[YDOT], c)
-    if normal <= 0.0:
-        # The friction functions are active only in contact (mode 0, ±1), so the contact
-        # ended at this very instant: N -> 0 makes the friction limit and, in slip, the
-        # rate u̇ = ẋ - ḟ/k_t jump, and their flip can be located an ulp before the
-        # contact function's. It is the loss of contact (else the spring would keep its
-        # extension through the flight and the loss would never be recorded).
-        return _lift_off(s)
-    if which == STICK_MARGIN:
-        # Slip starts towards the spring force, which drops to the kinetic limit
-        # (instantly: the contact point is massless). Where μ_s > μ_k and N falls the
-        # drop may leave nothing to slide for: the point sticks again at once.
-        direction = sign(s[FT])
-        _drop_to_kinetic_limit(t, s, direction, normal, c)
-        if direction * _contact_point_rates(t, s, direction, normal, c)[0] <= 0.0:
-            return 0.0, SLIP_START
-        return direction, SLIP_START
-    # The contact point comes to rest on the limit f = μ_k N sgn: it sticks (f can
-    # only fall back inside the static limit, never reverse at once).
-    s[FT] = mode * kinetic_coefficient(0.0, c) * normal
-    return 0.0, STICK_START
-
-
-@njit(cache=True)
-def apply_switch(which, t, s, mode, c):
-    """(new mode, event kind) after switching function ``which`` flipped at (t, s).
-
-    ``s`` is the state just past the flip; it is modified in place where the switch
-    sets a variable (ẋ = 0 exactly when the slider comes to rest; the spring force of a
-    compliant contact put on its kinetic limit at a slip start or a stick, relaxed at a
-    loss of contact). A contact function that flips without changing contact (the
-    separation function while δ <= 0, the gap after a separation inside the overlap)
-    gives ``NO_EVENT``. At touchdown a compliant contact point lands with a relaxed
-    spring (f = 0) and sticks, unless the touchdown grazes (N = 0+) and the spring
-    loads faster than the limit rises (:func:`_touchdown_mode`).
-    """
-    if which == CONTACT_GAP or which == SEPARATION:
-        delta, delta_rate, _ = gap(t, s[Y], s[YDOT], c)
-        gap_in = delta > 0.0
-        sep_in = separation_value(delta, delta_rate, c) > 0.0
-        after = gap_in and sep_in
-        if which == CONTACT_GAP:
-            before = (not gap_in) and sep_in
-        else:
-            before = gap_in and not sep_in
-        if after and not before:
-            if is_compliant(c):
-                s[FT] = 0.0
-                s[U] = s[X]
-                return _touchdown_mode(t, s, c), CONTACT_MADE
-            return _tangential_mode(mode), CONTACT_MADE
-        if before and not after:
-            if is_compliant(c):
-                return _lift_off(s)
-            return mode + _flight_flag(c), CONTACT_LOST
-        return mode, NO_EVENT
-    if is_compliant(c):
-        return _compliant_switch(which, t, s, mode, c)
-    # A rigid contact keeps its flight flag (the contact switches set it).
-    offset = _AIRBORNE if airborne(mode) else 0.0
-    if which == STICK_MARGIN:
-        return sign(drive_force(t, s[X], c)) + offset, SLIP_START
-    # The slider has come to rest: ẋ = 0 exactly, then stick or slide on (2.2).
-    s[XDOT] = 0.0
-    normal = 0.0 if offset else normal_force_call(t, s[Y], s[YDOT], c)
-    direction = _rigid_direction(t, s, normal, c)
-    if direction == 0.0:
-        return offset, STICK_START
-    if direction == _tangential_mode(mode):
-        return direction + offset, SLIP_START
-    return direction + offset, SLIP_REVERSAL
-
-
-def state_array(
-    y: float,
-    ydot: float,
-    x: float = 0.0,
-    xdot: float = 0.0,
-    u: float | None = None,
-    spring_force: float = 0.0,
-) -> np.ndarray:
-    """A state vector [y [m], ẏ [m/s], x [m], ẋ [m/s], u [m], f [N]] in the layout above
-    (u defaults to x: a relaxed tangential spring when f = 0)."""
-    out = np.zeros(N_STATE)
-    out[Y], out[YDOT], out[X], out[XDOT] = y, ydot, x, xdot
-    out[U] = x if u is None else u
-    out[FT] = spring_force
-    return out
-
-
-def full_states(states: np.ndarray) -> np.ndarray:
-    """``states`` (shape (..., N_STATE) or (..., 4)) in the full layout: rows holding only
-    the body's (y, ẏ, x, ẋ) get a relaxed contact point, u = x and f = 0."""
-    states = np.asarray(states, dtype=np.float64)
-    if states.shape[-1] != 4:
-        return states
-    out = np.zeros((*states.shape[:-1], N_STATE))
-    out[..., :4] = states
-    out[..., U] = states[..., X]
-    return out
-
-
-@njit(cache=True)
-def normal_samples(t, y, ydot, c):
-    """(N [N], N_raw [N], δ [m]) at the samples (t[k], y[k], ẏ[k]), from the composed
-    normal law: in contact iff δ > 0 and N_raw > 0."""
-    n = t.shape[0]
-    force = np.empty(n)
-    raw = np.empty(n)
-    delta = np.empty(n)
-    for k in range(n):
-        force[k] = normal_force(t[k], y[k], ydot[k], c)
-        raw[k] = raw_normal_force(t[k], y[k], ydot[k], c)
-        delta[k] = gap(t[k], y[k], ydot[k], c)[0]
-    return force, raw, delta
-
-
-@njit(cache=True)
-def interface_samples(t, states, modes, c):
-    """(F [N], F_t [N], μ_s N [N]) at the samples: the drive force on the body, the
-    friction force on the body signed as in (2.5) (m ẍ = F + F_t) and the static limit.
-
-    Rigid: sliding F_t = -μ(|ẋ|) N sgn ẋ, stick F_t = -F. Compliant: F_t = -f (the
-    spring force). Kinematic drive: F = -F_t, the force that keeps ẋ = v.
-    """
-    n = t.shape[0]
-    drive = np.empty(n)
-    friction = np.empty(n)
-    limit = np.empty(n)
-    for k in range(n):
-        s = states[k]
-        normal = normal_force(t[k], s[Y], s[YDOT], c)
-        limit[k] = friction_limit(normal, c)
-        direction = _tangential_mode(modes[k])
-        if is_compliant(c):
-            friction[k] = -s[FT]
-        elif direction != 0.0:
-            friction[k] = -direction * kinetic_coefficient(s[XDOT], c) * normal
-        else:
-            friction[k] = -drive_force(t[k], s[X], c)
-        drive[k] = -friction[k] if is_kinematic(c) else drive_force(t[k], s[X], c)
-    return drive, friction, limit
