@@ -76,7 +76,7 @@ STEADY_S_PER_POINT = 0.6e-6
 # ~3x and ~2x (the machine may be loaded).
 SHARED_S_PER_SETUP_STEP = 0.2e-6
 SHARED_S_PER_LANE_STEP = 4e-9
-TAPE_BYTES = 2048 * 15 * 8 + 4096  # one tape buffer per thread (shared_lanes.TAPE_ROWS)
+TAPE_BYTES = 2048 * 15 * 8 + 4096  # one tape buffer per thread (normal_tape.TAPE_ROWS)
 # "time" sweeps of a compliant tangential contact (microslip.integrators.batched): every
 # lane-step is the generic RK4 step with the model's switching, the lanes in blocks over
 # the threads. Measured 2026-11-26, 64 forces x 16 set-ups, 0.02 s, 2 threads: 0.42 us

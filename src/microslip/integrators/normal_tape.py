@@ -61,7 +61,7 @@ from microslip.model.normal import (
     raw_normal_force,
 )
 from microslip.model.switches import apply_switch, initial_mode
-from microslip.model.system import airborne, separation_rate, separation_value
+from microslip.model.system import N_STATE, airborne, separation_rate, separation_value
 from microslip.model.tangential import RIGID
 
 # Columns of a tape row.
@@ -69,6 +69,7 @@ T0, H, A0, A1, A2, A3, A4, INT1, KINT1, PMIN, PMAX, NCRIT, CRIT1, CRIT2, CRIT3 =
 ROW = 15
 
 _BISECTIONS = 60  # halvings of a bracket of P' (2^-60 < 1e-18 of a piece)
+TAPE_ROWS = 2048  # pieces a lane kernel takes per call of fill_tape (bounded memory)
 
 
 def normal_coefficients(c: np.ndarray) -> np.ndarray:
@@ -263,6 +264,16 @@ def start_tape(y0, ydot0):
     carry[C_YDOT] = ydot0
     carry[C_MODE] = math.nan  # set by the first fill_tape (it has the coefficients)
     return carry
+
+
+@njit(cache=True)
+def tape_buffers(y0, ydot0):
+    """(carry, tape, work) of a tape integration from (y0 [m], ẏ0 [m/s]) at t = 0: the
+    carry vector (:func:`start_tape`), a tape of TAPE_ROWS rows and the scratch of
+    :func:`fill_tape`."""
+    tape = np.empty((TAPE_ROWS, ROW))
+    work = np.zeros((WORK_SCRATCH, N_STATE))
+    return start_tape(y0, ydot0), tape, work
 
 
 @njit(cache=True, inline="always")

@@ -49,9 +49,7 @@ from microslip.integrators import normal_tape as nt
 from microslip.integrators.kernel import MAX_SWITCHES_PER_STEP
 from microslip.model.coefficients import MASS
 from microslip.model.normal import normal_force
-from microslip.model.system import N_STATE
 
-TAPE_ROWS = 2048  # pieces integrated per call of the normal kernel (bounded memory)
 _BISECTIONS = 64
 # Of a piece: ~3e-18 s at the default step (T0/200), far below the RK4 error; finer
 # buys nothing where P is flat to rounding near a crossing, and costs evaluations.
@@ -60,6 +58,15 @@ _TAU_TOLERANCE = 1e-12
 # Status per group.
 OK = 0
 LANE_STALLED = 5  # a lane switched more than MAX_SWITCHES_PER_STEP times in one piece
+
+
+def raise_on_failure(status: np.ndarray, kernel: str) -> None:
+    """RuntimeError naming the first normal set-up whose status is not OK."""
+    bad = np.flatnonzero(status != OK)
+    if bad.size:
+        g = int(bad[0])
+        what = "a lane stalled" if status[g] == LANE_STALLED else "the normal integration failed"
+        raise RuntimeError(f"{kernel}: {what} in set-up {g} (status {status[g]})")
 
 
 @njit(cache=True, inline="always")
@@ -283,9 +290,7 @@ def _run_group(c, y0, ydot0, t_end, dt, lanes, switches, flagged):
     n_active = n
     while n_active > 0 and lanes[MODE, n_active - 1] == 0.0:
         n_active -= 1
-    carry = nt.start_tape(y0, ydot0)
-    tape = np.empty((TAPE_ROWS, nt.ROW))
-    work = np.zeros((nt.WORK_SCRATCH, N_STATE))
+    carry, tape, work = nt.tape_buffers(y0, ydot0)
     while True:
         rows, tape_status = nt.fill_tape(carry, c, t_end, dt, tape, work)
         if tape_status > 1:
@@ -396,11 +401,7 @@ def run_shared(normal_coeffs, normal_states0, group_of_lane, forces, mu_static, 
             normal_coeffs, normal_states0[:, 0].copy(), normal_states0[:, 1].copy(), starts,
             lanes, switches, flagged, status, float(t_end), float(dt),
         )  # fmt: skip
-    bad = np.flatnonzero(status != OK)
-    if bad.size:
-        g = int(bad[0])
-        what = "a lane stalled" if status[g] == LANE_STALLED else "the normal integration failed"
-        raise RuntimeError(f"shared-normal kernel: {what} in set-up {g} (status {status[g]})")
+    raise_on_failure(status, "shared-normal kernel")
     inverse = np.empty_like(order)
     inverse[order] = np.arange(n_lanes)
     x, v, mode = lanes[X][inverse], lanes[V][inverse], lanes[MODE][inverse]

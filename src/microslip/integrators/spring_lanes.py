@@ -29,7 +29,7 @@ from numba import njit, parallel_chunksize, prange
 
 from microslip import _jit_cache  # noqa: F401  (registers the cache before any @njit)
 from microslip.integrators import normal_tape as nt
-from microslip.integrators.shared_lanes import LANE_STALLED, OK, TAPE_ROWS
+from microslip.integrators.shared_lanes import LANE_STALLED, OK, raise_on_failure
 from microslip.integrators.spring_lane_law import (
     FLIGHT,
     P_D0,
@@ -48,7 +48,6 @@ from microslip.integrators.spring_lane_law import (
 )
 from microslip.model.coefficients import GRAVITY, MASS
 from microslip.model.normal import normal_force
-from microslip.model.system import N_STATE
 
 # Rows of the lane array of a group.
 FORCE, FM, KM, MU_S, MU_K, X, V, FS, MODE, FLAG = range(10)
@@ -132,9 +131,7 @@ def _run_group(c, y0, ydot0, k_t, t_end, dt, lanes, switches, flagged):
     flying = normal_force(0.0, y0, ydot0, c) <= 0.0
     for i in range(n):
         lanes[MODE, i] = FLIGHT if flying else 0.0
-    carry = nt.start_tape(y0, ydot0)
-    tape = np.empty((TAPE_ROWS, nt.ROW))
-    work = np.zeros((nt.WORK_SCRATCH, N_STATE))
+    carry, tape, work = nt.tape_buffers(y0, ydot0)
     while True:
         rows, tape_status = nt.fill_tape(carry, c, t_end, dt, tape, work)
         if tape_status > 1:
@@ -241,9 +238,5 @@ def run_spring_lanes(normal_coeffs, normal_states0, stiffness, group_of_lane, fo
             normal_coeffs, states0[:, 0].copy(), states0[:, 1].copy(), stiffness, starts,
             lanes, switches, flagged, status, float(t_end), float(dt),
         )  # fmt: skip
-    bad = np.flatnonzero(status != OK)
-    if bad.size:
-        g = int(bad[0])
-        what = "a lane stalled" if status[g] == LANE_STALLED else "the normal integration failed"
-        raise RuntimeError(f"spring-lane kernel: {what} in set-up {g} (status {status[g]})")
+    raise_on_failure(status, "spring-lane kernel")
     return lanes[X], lanes[V], lanes[FS], lanes[MODE], switches, flagged
