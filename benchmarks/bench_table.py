@@ -167,7 +167,7 @@ def job_forced_time_map(n_forces, n_amplitudes, rows):
     )
 
 
-def job_compliant_time_map(tangential, kernel, n_forces, n_amplitudes, rows):
+def job_compliant_time_map(tangential, kernel, n_forces, n_amplitudes, rows, scaling=None):
     """A compliant tangential contact, forces x amplitudes, 0.05 s, vs the scalar event
     path: a TangentialSpring on the spring-lane kernel (one normal tape per amplitude,
     integrators/spring_lanes.py), a MindlinSpring on the batched RK4 kernel (one
@@ -181,6 +181,14 @@ def job_compliant_time_map(tangential, kernel, n_forces, n_amplitudes, rows):
 
     run(forces[:2], amps[:2], 0.001)
     result, seconds = best_time(run, forces, amps)
+    if scaling is not None:  # points: forces x amplitudes at the job's aspect ratio
+        for k in (8, 4, 2, 1):
+            n_f, n_a = max(n_forces // k, 2), max(n_amplitudes // k, 2)
+            f, a = np.linspace(0.05, 0.95, n_f), np.linspace(0.0, 3e-7, n_a)
+            elapsed = seconds if k == 1 else best_time(run, f, a)[1]
+            scaling.setdefault(f"{type(tangential).__name__} time map (points)", []).append(
+                (n_f * n_a, elapsed)
+            )
     steps = math.ceil(DURATION * 200 / ms.budget.shortest_period(model))
     throughput = n_forces * n_amplitudes * steps / seconds
     values = np.asarray(result.values)
@@ -492,7 +500,9 @@ def main(argv=None) -> int:
     job_forced_time_map(64 if quick else 256, 8 if quick else 64, rows)
     log("compliant time map ...")
     spring = ms.TangentialSpring(PARAMS.contact_stiffness)
-    job_compliant_time_map(spring, "spring lanes", 32 if quick else 256, 8 if quick else 64, rows)
+    job_compliant_time_map(
+        spring, "spring lanes", 32 if quick else 256, 8 if quick else 64, rows, scaling
+    )
     log("compliant time map, Mindlin ...")
     mindlin = ms.MindlinSpring(0.8235)
     job_compliant_time_map(mindlin, "batched RK4", 8 if quick else 32, 2 if quick else 8, rows)
