@@ -84,3 +84,25 @@ def test_a_user_step_is_checked_against_the_tangential_period():
     with pytest.raises(ValueError, match=r"dt=.* is too large"):
         sweep(model, None, force=[0.5], amplitude=[1e-7], method="time", duration=DURATION,
               dt=P.natural_period / 50)  # fmt: skip
+
+
+def test_a_spring_time_sweep_is_the_same_bits_however_it_is_chunked():
+    """The spring-lane kernel runs each amplitude (or forced set-up) as its own normal
+    tape, so a sweep cut into one chunk per amplitude, or per parameter set, gives the
+    same bits as one chunk."""
+    free = ms.Model(P, tangential=ms.TangentialSpring(K_N))
+    kwargs = dict(force=[0.2, 0.6, 0.9], method="time", duration=0.002)
+    one = sweep(free, None, amplitude=[0.5e-7, 1.5e-7, 3e-7], **kwargs)
+    cut = sweep(free, None, amplitude=[0.5e-7, 1.5e-7, 3e-7], amplitude_chunk=1, **kwargs)
+    np.testing.assert_array_equal(np.asarray(one.values), np.asarray(cut.values))
+    assert np.all(np.asarray(one.values) > 0.0)
+    forced = ms.Model(P, tangential=ms.TangentialSpring(K_N), damping=ms.Viscous(0.05),
+                      excitation=ms.HarmonicForce(3.0, 1200.0))  # fmt: skip
+    axes = {"excitation.amplitude": [2.0, 4.0, 6.0]}
+    together = sweep(forced, axes, **kwargs)
+    alone = [sweep(forced.replace(**{"excitation.amplitude": a}), None, **kwargs) for a in axes[
+        "excitation.amplitude"]]  # fmt: skip
+    for k, single in enumerate(alone):
+        np.testing.assert_array_equal(
+            np.asarray(together.values)[k], np.asarray(single.values).ravel()
+        )
