@@ -227,7 +227,7 @@ def lane_piece(a, piece, force, fm, km, mu_s, mu_k, x, v, f, mode):
         if mode == 0.0:
             e_a = f - force
             b_a = k_t * v / omega
-            p = (tau, theta, e_a, b_a, f, mu_s, 0.0)
+            p = (tau, theta, e_a, b_a, f, mu_s, 0.0)  # padded: one tuple type for both kinds
             amplitude = abs(e_a) + abs(b_a)  # of the oscillation of f
             bound2 = mu_s * d2 + theta * theta * amplitude
             bound3 = mu_s * d3 + theta * theta * theta * amplitude
