@@ -211,6 +211,10 @@ def _add_sweeps(sub) -> None:
         )  # fmt: skip
         p.add_argument("--duration", type=finite, help="time method: span [s]")
         p.add_argument("--dt", type=finite, help="time method: RK4 step [s]")
+        p.add_argument(
+            "--backend", choices=("cpu", "cuda"),
+            help="time method, rigid contact: run the lanes on an NVIDIA GPU (cuda)",
+        )  # fmt: skip
         p.add_argument("--scheduler", help="Dask scheduler address tcp://HOST:PORT")
         p.add_argument("--workers", type=integer, help="start a local Dask cluster of N workers")
         p.add_argument("--chunk", type=integer, help="amplitudes per chunk")

@@ -31,7 +31,7 @@ SIMULATE = {
 MAP = {
     "force": "values", "amplitude": "values", "out": "str", "plot": "str", "method": "str",
     "duration": "float", "dt": "float", "scheduler": "str", "workers": "int", "chunk": "int",
-    "quiet": "bool", "overwrite": "bool", "allow_large": "bool",
+    "quiet": "bool", "overwrite": "bool", "allow_large": "bool", "backend": "str",
 }  # fmt: skip
 SWEEP = {**MAP, "param": "params"}
 FIGURES = {

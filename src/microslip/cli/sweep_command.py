@@ -151,7 +151,7 @@ def cmd_sweep(args: argparse.Namespace) -> int:
     spec = SweepSpec.build(
         params if model.is_paper else model, axes, forces, amplitudes,
         method=method, duration=opts.get("duration", 0.05), dt=opts.get("dt"),
-        amplitude_chunk=chunk,
+        amplitude_chunk=chunk, backend=opts.get("backend", "cpu"),
     )  # fmt: skip
     spec.check_budget(allow_large=bool(opts.get("allow_large", False)))
     work_store = out.with_name(out.name + ".partial.zarr")

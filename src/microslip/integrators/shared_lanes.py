@@ -208,7 +208,7 @@ def _first_stop(a, crit, h, tau_a, v_a, s, fm, km, level):
 
 
 @njit(cache=True)
-def _lane_piece(a, crit, h, fm, km, n_release, n_balance, direction, x, v, mode):
+def lane_piece(a, crit, h, fm, km, n_release, n_balance, direction, x, v, mode):
     """(x, ẋ, mode, switches) of one lane at the end of a piece of length h [s] whose
     normal force is the quartic ``a`` with critical points ``crit``, through its
     switches; switches = -1 if the lane stalled."""
@@ -245,34 +245,54 @@ FM, KM, N_RELEASE, N_BALANCE, DIRECTION, X, V, MODE, FLAG = range(9)
 LANE_ROWS = 9
 
 
+@njit(cache=True, inline="always", error_model="numpy")
+def free_piece(mode, v, x, fm, km, n_release, n_balance, h, h_int, h2_kint, p_min, p_max):
+    """(flag, x1, ẋ1) of a lane over a piece as if it held no switch: the closed form of
+    the module doc in slip, the state held in stick; ``flag`` is True where a switch may
+    lie inside the piece (module doc), and the lane must be redone by
+    :func:`lane_piece`. ``h_int`` = h I(1), ``h2_kint`` = h² K(1); p_min, p_max [N] the
+    piece's extremes of P. Branch-free: every lane of a vector loop (or a GPU warp) runs
+    the same instructions."""
+    s = mode
+    active = s * s
+    skm = s * km
+    v1 = v + active * (h * fm - skm * h_int)
+    x1 = x + active * (h * v + 0.5 * h * h * fm - skm * h2_kint)
+    release = p_min < n_release
+    level = s * n_balance
+    turning = (p_min < level) & (level < p_max)
+    near = s * v <= 2.0 * h * (abs(fm) + km * p_max)
+    stop = (s * v1 <= 0.0) | (turning & near)
+    flag = ((active == 0.0) & release) | ((active != 0.0) & stop)
+    return flag, x1, v1
+
+
 @njit(cache=True, error_model="numpy")
 def _vector_pass(lanes, n_range, h, h_int, h2_kint, p_min, p_max):
-    """A piece for lanes [0, n_range) as if it held no switch: branch-free, vectorised.
-    A lane where a switch may lie inside (module doc) is flagged and keeps its state.
-    Returns the number of flagged lanes."""
-    h2_half = 0.5 * h * h
+    """A piece for lanes [0, n_range) as if it held no switch (:func:`free_piece`),
+    vectorised. A flagged lane keeps its state. Returns the number of flagged lanes."""
     n_flagged = 0
     for i in range(n_range):
-        s = lanes[MODE, i]
-        active = s * s
         vi = lanes[V, i]
         xi = lanes[X, i]
-        fm = lanes[FM, i]
-        km = lanes[KM, i]
-        skm = s * km
-        v1 = vi + active * (h * fm - skm * h_int)
-        x1 = xi + active * (h * vi + h2_half * fm - skm * h2_kint)
-        release = p_min < lanes[N_RELEASE, i]
-        level = s * lanes[N_BALANCE, i]
-        turning = (p_min < level) & (level < p_max)
-        near = s * vi <= 2.0 * h * (abs(fm) + km * p_max)
-        stop = (s * v1 <= 0.0) | (turning & near)
-        f = ((active == 0.0) & release) | ((active != 0.0) & stop)
+        f, x1, v1 = free_piece(
+            lanes[MODE, i], vi, xi, lanes[FM, i], lanes[KM, i], lanes[N_RELEASE, i],
+            lanes[N_BALANCE, i], h, h_int, h2_kint, p_min, p_max,
+        )  # fmt: skip
         lanes[FLAG, i] = 1.0 if f else 0.0
         lanes[X, i] = xi if f else x1
         lanes[V, i] = vi if f else v1
         n_flagged += 1 if f else 0
     return n_flagged
+
+
+@njit(cache=True)
+def start_modes(lanes, lo, hi, n0):
+    """Lanes [lo, hi) at rest start to slide towards F unless |F| <= μ_s N(0) (2.2);
+    ``n0`` [N] is N at t = 0 of their normal set-up."""
+    for i in range(lo, hi):
+        if lanes[MODE, i] == 0.0 and lanes[V, i] == 0.0 and n0 < lanes[N_RELEASE, i]:
+            lanes[MODE, i] = lanes[DIRECTION, i]
 
 
 @njit(cache=True)
@@ -282,11 +302,7 @@ def _run_group(c, y0, ydot0, t_end, dt, lanes, switches, flagged):
     moving: past it every lane sticks, and one that a piece cannot release
     (|F|/μ_s <= min P) is left alone."""
     n = lanes.shape[1]
-    # Lanes at rest start in stick iff |F| <= μ_s N(0) (2.2).
-    n0 = normal_force(0.0, y0, ydot0, c)
-    for i in range(n):
-        if lanes[MODE, i] == 0.0 and lanes[V, i] == 0.0 and n0 < lanes[N_RELEASE, i]:
-            lanes[MODE, i] = lanes[DIRECTION, i]
+    start_modes(lanes, 0, n, normal_force(0.0, y0, ydot0, c))
     n_active = n
     while n_active > 0 and lanes[MODE, n_active - 1] == 0.0:
         n_active -= 1
@@ -319,7 +335,7 @@ def _run_group(c, y0, ydot0, t_end, dt, lanes, switches, flagged):
                 if lanes[FLAG, i] != 0.0:
                     n_flagged -= 1
                     flagged[i] += 1
-                    xi, vi, mi, k = _lane_piece(
+                    xi, vi, mi, k = lane_piece(
                         a, crit, h, lanes[FM, i], lanes[KM, i], lanes[N_RELEASE, i],
                         lanes[N_BALANCE, i], lanes[DIRECTION, i], lanes[X, i], lanes[V, i],
                         lanes[MODE, i],
@@ -370,6 +386,28 @@ def run_shared(normal_coeffs, normal_states0, group_of_lane, forces, mu_static, 
     """
     normal_coeffs = np.ascontiguousarray(normal_coeffs, dtype=np.float64)
     normal_states0 = np.asarray(normal_states0, dtype=np.float64)
+    lanes, order, starts = pack_lanes(
+        normal_coeffs, group_of_lane, forces, mu_static, mu_kinetic, x0, v0
+    )
+    n_lanes = order.size
+    switches = np.zeros(n_lanes, dtype=np.int64)
+    flagged = np.zeros(n_lanes, dtype=np.int64)
+    status = np.zeros(normal_coeffs.shape[0], dtype=np.int64)
+    with parallel_chunksize(1):
+        _run_groups(
+            normal_coeffs, normal_states0[:, 0].copy(), normal_states0[:, 1].copy(), starts,
+            lanes, switches, flagged, status, float(t_end), float(dt),
+        )  # fmt: skip
+    raise_on_failure(status, "shared-normal kernel")
+    return unpack_lanes(lanes, order, switches, flagged)
+
+
+def pack_lanes(normal_coeffs, group_of_lane, forces, mu_static, mu_kinetic, x0=None,
+               v0=None):  # fmt: skip
+    """(lanes, order, starts): the lane array (rows FM ... FLAG) of :func:`run_shared`'s
+    lanes in kernel order (by set-up, then by decreasing |F|/μ_s, ties in lane order:
+    see :func:`_run_group`), ``order`` the lane of each column and ``starts`` (G + 1,)
+    the first column of each set-up."""
     group_of_lane = np.asarray(group_of_lane, dtype=np.int64)
     n_lanes = group_of_lane.size
     forces = np.asarray(forces, dtype=np.float64)
@@ -393,16 +431,13 @@ def run_shared(normal_coeffs, normal_states0, group_of_lane, forces, mu_static, 
     values = (fm, km, n_release, n_balance, direction, x, v, mode)
     for row, value in zip(rows, values, strict=True):
         lanes[row] = value[order]
-    switches = np.zeros(n_lanes, dtype=np.int64)
-    flagged = np.zeros(n_lanes, dtype=np.int64)
-    status = np.zeros(normal_coeffs.shape[0], dtype=np.int64)
-    with parallel_chunksize(1):
-        _run_groups(
-            normal_coeffs, normal_states0[:, 0].copy(), normal_states0[:, 1].copy(), starts,
-            lanes, switches, flagged, status, float(t_end), float(dt),
-        )  # fmt: skip
-    raise_on_failure(status, "shared-normal kernel")
+    return lanes, order, starts
+
+
+def unpack_lanes(lanes, order, switches, flagged):
+    """(x, ẋ, mode, switches, flagged) per lane in the caller's order, from the kernel's
+    columns (:func:`pack_lanes`)."""
     inverse = np.empty_like(order)
-    inverse[order] = np.arange(n_lanes)
+    inverse[order] = np.arange(order.size)
     x, v, mode = lanes[X][inverse], lanes[V][inverse], lanes[MODE][inverse]
     return x, v, mode, switches[inverse], flagged[inverse]

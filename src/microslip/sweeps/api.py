@@ -31,6 +31,7 @@ def sweep(
     progress: bool = False,
     amplitude_chunk: int | None = None,
     allow_large: bool = False,
+    backend: str = "cpu",
 ) -> xr.DataArray:
     """Mean sliding velocity [m/s] over any numeric fields of a model, force and amplitude;
     or, for a model driven at a prescribed velocity, the effective friction coefficient.
@@ -88,6 +89,13 @@ def sweep(
         Run even when the estimated run time exceeds 10 minutes or the memory half of
         the available memory; otherwise refused up front with
         :class:`microslip.budget.WorkLimitError` (:meth:`SweepSpec.check_budget`).
+        The estimate is the CPU's, also for ``backend="cuda"``.
+    backend : {"cpu", "cuda"}
+        "cuda": the lanes of the shared-normal time kernel (``method="time"``, rigid
+        contact) run on an NVIDIA GPU through numba's CUDA target, the normal tapes on
+        the CPU cores; the result agrees with "cpu" to rounding (the GPU fuses
+        multiply-adds) and is refused in one line where no GPU can be used. Default
+        chunks then hold 2^18 points (a GPU needs many lanes to be busy).
 
     Returns
     -------
@@ -100,7 +108,7 @@ def sweep(
         return _friction_sweep(
             model_or_params, axes, force=force, amplitude=amplitude, method=method,
             duration=duration, dt=dt, scheduler=scheduler, workers=workers, store=store,
-            progress=progress, amplitude_chunk=amplitude_chunk,
+            progress=progress, amplitude_chunk=amplitude_chunk, backend=backend,
         )  # fmt: skip
     if force is None:
         raise ValueError(
@@ -116,7 +124,7 @@ def sweep(
         amplitude_chunk = np.size(amplitude)  # in memory, one chunk per parameter set is fastest
     spec = SweepSpec.build(
         model_or_params, axes, force, amplitude, method=method, duration=duration, dt=dt,
-        amplitude_chunk=amplitude_chunk, allow_large=allow_large,
+        amplitude_chunk=amplitude_chunk, allow_large=allow_large, backend=backend,
     )  # fmt: skip
     ds = run_sweep(spec, store=store, scheduler=scheduler, workers=workers, progress=progress)
     velocity = ds["mean_velocity"]
@@ -141,6 +149,8 @@ def _friction_sweep(model: Model, axes, *, force, amplitude, progress, **options
         )
     if options.pop("method") != "steady":
         raise ValueError("method='time' does not apply to an effective-friction sweep")
+    if options.pop("backend") != "cpu":
+        raise ValueError("backend='cuda' does not apply to an effective-friction sweep")
     for name, value in options.items():
         if value is not None:
             raise ValueError(
@@ -154,7 +164,7 @@ def _friction_sweep(model: Model, axes, *, force, amplitude, progress, **options
 
 _SWEEP_OPTIONS = (
     "method", "duration", "dt", "scheduler", "workers", "store", "progress",
-    "amplitude_chunk", "allow_large",
+    "amplitude_chunk", "allow_large", "backend",
 )  # fmt: skip
 
 
@@ -173,7 +183,7 @@ def velocity_map(
     with ``frequencies`` [Hz] the map is v(f, F) with dims ("excitation.frequency",
     "force"), otherwise ("force",). Other options as for :func:`sweep` (``method``,
     ``duration``, ``dt``, ``scheduler``, ``workers``, ``store``, ``progress``,
-    ``amplitude_chunk``, ``allow_large``); any other keyword is refused with
+    ``amplitude_chunk``, ``allow_large``, ``backend``); any other keyword is refused with
     ``ValueError``.
     """
     unknown = sorted(set(options) - set(_SWEEP_OPTIONS))

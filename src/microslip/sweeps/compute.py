@@ -37,7 +37,9 @@ def compute_chunk(spec: SweepSpec, key: ChunkKey) -> np.ndarray:
         return out
     dt = _time_step(spec, spec.model_at(key))
     normal0 = np.array([initial_state_from_amplitude(params, a)[:2] for a in amplitudes])
-    x = _shared_run([spec.model_at(key)] * amplitudes.size, normal0, forces, spec.duration, dt)
+    x = _shared_run(
+        [spec.model_at(key)] * amplitudes.size, normal0, forces, spec.duration, dt, spec.backend
+    )
     return (x / spec.duration).T
 
 
@@ -59,7 +61,9 @@ def compute_chunks(spec: SweepSpec, keys: list[ChunkKey]) -> list[np.ndarray]:
     for dt in dict.fromkeys(steps):  # one run per step size, in first-seen order
         picked = [k for k, step in enumerate(steps) if step == dt]
         normal0 = np.array([[models[k].params.static_deflection, 0.0] for k in picked])
-        x = _shared_run([models[k] for k in picked], normal0, spec.forces, spec.duration, dt)
+        x = _shared_run(
+            [models[k] for k in picked], normal0, spec.forces, spec.duration, dt, spec.backend
+        )
         for row, k in enumerate(picked):
             blocks[k] = (x[row] / spec.duration)[:, None]
     return blocks
@@ -148,11 +152,12 @@ def compliant_time_chunk(spec: SweepSpec, key: ChunkKey) -> np.ndarray:
     return result.mean_velocity.reshape(len(starts), forces.size).T
 
 
-def _shared_run(models, normal0, forces, duration, dt) -> np.ndarray:
+def _shared_run(models, normal0, forces, duration, dt, backend="cpu") -> np.ndarray:
     """x(duration) [m], shape (set-ups, forces), from rest on each normal set-up (one
     model per row of ``normal0``: y [m], ẏ [m/s] at t = 0) under every constant force
     [N], on the shared-normal kernel of the models' tangential contact (all rigid or all
-    springs of constant stiffness, a relaxed spring at t = 0)."""
+    springs of constant stiffness, a relaxed spring at t = 0); ``backend`` "cuda" runs
+    the rigid lanes on a GPU (:mod:`~microslip.integrators.shared_lanes_cuda`)."""
     from microslip.integrators.normal_tape import normal_coefficients
     from microslip.integrators.shared_lanes import run_shared
     from microslip.integrators.spring_lanes import run_spring_lanes
@@ -168,6 +173,10 @@ def _shared_run(models, normal0, forces, duration, dt) -> np.ndarray:
         stiffness = [model.tangential.stiffness for model in models]
         x = run_spring_lanes(coeffs, normal0, stiffness, groups, lane_forces, mu, mu, duration,
                              dt)[0]  # fmt: skip
+    elif backend == "cuda":
+        from microslip.integrators.shared_lanes_cuda import run_shared_cuda
+
+        x = run_shared_cuda(coeffs, normal0, groups, lane_forces, mu, mu, duration, dt)[0]
     else:
         x = run_shared(coeffs, normal0, groups, lane_forces, mu, mu, duration, dt)[0]
     return x.reshape(n_setups, forces.size)

@@ -38,6 +38,8 @@ from microslip.sweeps.axes import (
 from microslip.validation import DEFAULT_RK4_STEPS_PER_PERIOD
 
 METHODS = ("steady", "time")
+BACKENDS = ("cpu", "cuda")  # where the shared-normal time kernel runs
+CUDA_CHUNK_LANES = 2**18  # default lanes per chunk on a GPU (it needs many to be busy)
 DEFAULT_DURATION = 0.05  # [s], "time" method
 # Parameter combinations are checked on a dense grid; beyond this many it would not fit.
 MAX_PARAMETER_SETS = 10_000_000
@@ -56,6 +58,27 @@ def time_kernel(model: Model) -> str:
     if not model.is_compliant:
         return "shared"
     return "spring" if isinstance(model.tangential, TangentialSpring) else "batched"
+
+
+def _checked_backend(backend: Any, model: Model, method: str) -> str:
+    """``backend`` if this sweep can run there, else ValueError in one line."""
+    backend = check.one_of("backend", backend, BACKENDS)
+    if backend == "cpu":
+        return backend
+    if method != "time":
+        raise ValueError("backend='cuda' runs method='time' only; 'steady' runs on the CPU")
+    kernel = time_kernel(model)
+    if kernel != "shared":
+        raise ValueError(
+            f"backend='cuda' runs the shared-normal time kernel (a rigid tangential contact); "
+            f"a {type(model.tangential).__name__} runs on the CPU ({kernel!r} kernel)"
+        )
+    from microslip.integrators.shared_lanes_cuda import cuda_unavailable
+
+    reason = cuda_unavailable()
+    if reason is not None:
+        raise ValueError(f"backend='cuda': {reason}")
+    return backend
 
 
 def _estimate(
@@ -114,6 +137,8 @@ class SweepSpec:
     duration : simulated time per point for "time" [s]
     dt : RK4 step for "time" [s]; None means T0/200 of each parameter set
     amplitude_chunk : amplitudes per chunk
+    backend : "cpu" or "cuda" (the shared-normal time kernel's lanes on a GPU:
+        :mod:`microslip.integrators.shared_lanes_cuda`)
     """
 
     base: Model
@@ -124,6 +149,7 @@ class SweepSpec:
     duration: float = 0.05
     dt: float | None = None
     amplitude_chunk: int = 8
+    backend: str = "cpu"
 
     @classmethod
     def build(
@@ -138,6 +164,7 @@ class SweepSpec:
         dt: float | None = None,
         amplitude_chunk: int | None = None,
         allow_large: bool | None = None,
+        backend: str = "cpu",
     ) -> SweepSpec:
         """Validate every input and build the spec (``ValueError`` naming the culprit).
 
@@ -160,11 +187,16 @@ class SweepSpec:
         available memory is refused (:class:`microslip.budget.WorkLimitError`) whatever
         ``allow_large``; with ``allow_large`` False the full check of
         :meth:`check_budget` is made here too (None: left to :meth:`check_budget`).
+
+        ``backend="cuda"`` runs the lanes of the shared-normal time kernel on a GPU
+        (method "time", rigid tangential contact; refused otherwise, and where no GPU
+        can be used, with the reason).
         """
         model = as_model(model_or_params)
         method = check.one_of("method", method, METHODS)
         allowed = {"tangential": TIME_TANGENTIAL} if method == "time" else {}
         require(model, "sweep", allowed=allowed, instead=SWEEP_INSTEAD)
+        backend = _checked_backend(backend, model, method)
         params = model.params
         forced = model.excitation is not None
         if forced and amplitudes is not None:
@@ -220,7 +252,8 @@ class SweepSpec:
         if dt is not None:
             dt = check.real("dt", dt, minimum=0.0, strict=True)
         if amplitude_chunk is None:
-            amplitude_chunk = 8 if method == "steady" else max(1, 4096 // len(forces))
+            lanes = CUDA_CHUNK_LANES if backend == "cuda" else 4096
+            amplitude_chunk = 8 if method == "steady" else max(1, lanes // len(forces))
         amplitude_chunk = min(
             check.positive_int("amplitude_chunk", amplitude_chunk), len(amplitudes)
         )
@@ -248,6 +281,7 @@ class SweepSpec:
             duration=duration,
             dt=dt,
             amplitude_chunk=amplitude_chunk,
+            backend=backend,
         )
         spec._check_parameter_sets()
         return spec
@@ -397,6 +431,8 @@ class SweepSpec:
             "duration": repr(self.duration) if self.method == "time" else None,
             "dt": repr(self.dt) if self.method == "time" else None,
             "amplitude_chunk": self.amplitude_chunk,
+            # Only where it is not the default: stores made before it existed still match.
+            **({"backend": self.backend} if self.backend != "cpu" else {}),
         }
 
     def fingerprint(self) -> str:

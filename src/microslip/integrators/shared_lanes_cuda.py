@@ -1,0 +1,216 @@
+"""The shared-normal lanes on an NVIDIA GPU (optional: numba's CUDA target).
+
+The same lanes as :func:`microslip.integrators.shared_lanes.run_shared`, with the work
+split where it is cheapest: the normal tapes, one per set-up and shared by all its
+lanes, are filled on the CPU cores (:func:`~microslip.integrators.normal_tape.fill_tape`
+in parallel over the set-ups), a block of ``tape_rows`` pieces at a time; each block
+goes to the GPU, where one thread per lane runs through its set-up's pieces with the
+lane law of :mod:`~microslip.integrators.shared_lanes` itself (:func:`free_piece` for
+a piece without a switch, :func:`lane_piece` through the switches), compiled for the
+GPU from the same functions. While a block is copied and run, the CPU fills the next.
+The lane states stay on the GPU between blocks, so memory is bounded by two blocks of
+tapes whatever the duration.
+
+Every lane's arithmetic depends only on its own parameters and its set-up's tape, so a
+lane's result does not depend on the other lanes, their number or order. The GPU
+compiler contracts multiply-adds (FMA), so the bits differ from the CPU kernel's at the
+rounding level (docs/theory/numerics.md, "Lanes on a GPU"). Under numba's CUDA
+simulator (``NUMBA_ENABLE_CUDASIM=1``, no GPU needed: the test suite's check) the
+kernel runs as Python with the CPU's arithmetic and gives the CPU kernel's bits.
+
+Nothing requires a GPU: :func:`cuda_unavailable` says why none can be used.
+"""
+
+from __future__ import annotations
+
+import functools
+
+import numpy as np
+from numba import njit, prange
+
+from microslip import _jit_cache  # noqa: F401  (registers the cache before any @njit)
+from microslip.integrators import normal_tape as nt
+from microslip.integrators.shared_lanes import (
+    DIRECTION,
+    FM,
+    KM,
+    LANE_STALLED,
+    MODE,
+    N_BALANCE,
+    N_RELEASE,
+    OK,
+    V,
+    X,
+    free_piece,
+    lane_piece,
+    pack_lanes,
+    raise_on_failure,
+    start_modes,
+    unpack_lanes,
+)
+from microslip.model.normal import normal_force
+
+try:  # the kernel's global ``cuda``: numba's simulator swaps it for its own module
+    from numba import cuda
+except Exception as error:  # numba without its CUDA target
+    cuda = None
+    _IMPORT_ERROR = str(error)
+
+THREADS_PER_BLOCK = 128
+TAPE_ROWS = 1024  # pieces per set-up in a block of tapes (fewer for many set-ups)
+TAPE_BLOCK_BYTES = 256 * 2**20  # at most this much tape per block, host and GPU each
+
+
+def cuda_unavailable() -> str | None:
+    """None when a CUDA GPU (or numba's CUDA simulator) can run the lanes, else why not,
+    in one line."""
+    if cuda is None:
+        return f"numba's CUDA target cannot be imported ({_IMPORT_ERROR})"
+    try:
+        if cuda.is_available():
+            return None
+    except Exception as error:  # a broken driver reports itself here
+        return f"CUDA is not usable here ({error})"
+    return "no CUDA GPU is available here (numba.cuda.is_available() is False)"
+
+
+@functools.cache
+def _kernel():
+    """The lane kernel, compiled for the GPU on its first launch."""
+
+    @cuda.jit
+    def lanes_kernel(tapes, rows, lane_group, lanes, switches, flagged, stalled):
+        # One thread per lane (a column of ``lanes``): through its set-up's pieces.
+        i = cuda.grid(1)
+        if i >= lanes.shape[1]:
+            return
+        g = lane_group[i]
+        fm, km = lanes[FM, i], lanes[KM, i]
+        n_release, n_balance = lanes[N_RELEASE, i], lanes[N_BALANCE, i]
+        direction = lanes[DIRECTION, i]
+        x, v, mode = lanes[X, i], lanes[V, i], lanes[MODE, i]
+        n_switches = 0
+        n_flagged = 0
+        for r in range(rows[g]):
+            h = tapes[g, r, nt.H]
+            p_min = tapes[g, r, nt.PMIN]
+            p_max = tapes[g, r, nt.PMAX]
+            flag, x1, v1 = free_piece(
+                mode, v, x, fm, km, n_release, n_balance, h, h * tapes[g, r, nt.INT1],
+                h * h * tapes[g, r, nt.KINT1], p_min, p_max,
+            )  # fmt: skip
+            if not flag:
+                x, v = x1, v1
+                continue
+            n_flagged += 1
+            a = (
+                tapes[g, r, nt.A0], tapes[g, r, nt.A1], tapes[g, r, nt.A2], tapes[g, r, nt.A3],
+                tapes[g, r, nt.A4],
+            )  # fmt: skip
+            crit = (
+                int(tapes[g, r, nt.NCRIT]), tapes[g, r, nt.CRIT1], tapes[g, r, nt.CRIT2],
+                tapes[g, r, nt.CRIT3],
+            )  # fmt: skip
+            x, v, mode, k = lane_piece(
+                a, crit, h, fm, km, n_release, n_balance, direction, x, v, mode
+            )
+            if k < 0:
+                stalled[i] = 1
+                break
+            n_switches += k
+        lanes[X, i], lanes[V, i], lanes[MODE, i] = x, v, mode
+        switches[i] += n_switches
+        flagged[i] += n_flagged
+
+    return lanes_kernel
+
+
+@njit(cache=True, parallel=True)
+def _fill_tapes(normal_c, carries, works, tapes, rows, status, t_end, dt):
+    """The next block of every set-up's tape, in parallel over the set-ups: ``status``
+    1 = more to come (fill), 0 = done (no rows), > 1 = failed (no rows)."""
+    for g in prange(normal_c.shape[0]):
+        if status[g] != 1:
+            rows[g] = 0
+            continue
+        rows[g], status[g] = nt.fill_tape(carries[g], normal_c[g], t_end, dt, tapes[g],
+                                          works[g])  # fmt: skip
+
+
+def run_shared_cuda(normal_coeffs, normal_states0, group_of_lane, forces, mu_static,
+                    mu_kinetic, t_end, dt, x0=None, v0=None, tape_rows=None):  # fmt: skip
+    """:func:`~microslip.integrators.shared_lanes.run_shared` with the lanes on the GPU
+    (same arguments and returns, SI units); ``tape_rows`` sets the pieces per set-up
+    in a block of tapes (default: TAPE_ROWS, fewer where the block would exceed
+    TAPE_BLOCK_BYTES). Raises RuntimeError when no GPU can be used
+    (:func:`cuda_unavailable`) or a normal integration or a lane fails."""
+    reason = cuda_unavailable()
+    if reason is not None:
+        raise RuntimeError(reason)
+
+    normal_coeffs = np.ascontiguousarray(normal_coeffs, dtype=np.float64)
+    normal_states0 = np.asarray(normal_states0, dtype=np.float64)
+    n_groups = normal_coeffs.shape[0]
+    lanes, order, starts = pack_lanes(
+        normal_coeffs, group_of_lane, forces, mu_static, mu_kinetic, x0, v0
+    )
+    n_lanes = order.size
+    switches = np.zeros(n_lanes, dtype=np.int64)
+    flagged = np.zeros(n_lanes, dtype=np.int64)
+    if n_lanes == 0:
+        return unpack_lanes(lanes, order, switches, flagged)
+    carries = np.empty((n_groups, nt.CARRY))
+    for g in range(n_groups):
+        y0, ydot0 = normal_states0[g, 0], normal_states0[g, 1]
+        carries[g] = nt.start_tape(y0, ydot0)
+        start_modes(lanes, starts[g], starts[g + 1], normal_force(0.0, y0, ydot0,
+                                                                  normal_coeffs[g]))  # fmt: skip
+    if tape_rows is None:
+        tape_rows = TAPE_ROWS
+        tape_rows = max(16, min(tape_rows, TAPE_BLOCK_BYTES // (n_groups * nt.ROW * 8)))
+    works = np.zeros((n_groups, nt.WORK_SCRATCH, nt.N_STATE))
+    status = np.ones(n_groups, dtype=np.int64)
+    lane_group = np.repeat(np.arange(n_groups), np.diff(starts))
+
+    kernel = _kernel()
+    stream = cuda.stream()
+    d_lanes = cuda.to_device(lanes, stream=stream)
+    d_switches = cuda.to_device(switches, stream=stream)
+    d_flagged = cuda.to_device(flagged, stream=stream)
+    d_stalled = cuda.to_device(np.zeros(n_lanes, dtype=np.int64), stream=stream)
+    d_group = cuda.to_device(lane_group, stream=stream)
+    # Two blocks of tapes in flight: page-locked on the host (asynchronous copies), one
+    # filled by the CPU while the other is copied and run. One stream keeps each
+    # block's copy before its kernel and the kernels in order.
+    shape = (n_groups, int(tape_rows), nt.ROW)
+    tapes = [cuda.pinned_array(shape), cuda.pinned_array(shape)]
+    rows = [cuda.pinned_array(n_groups, dtype=np.int64) for _ in range(2)]
+    d_tapes = [cuda.device_array(shape, stream=stream) for _ in range(2)]
+    d_rows = [cuda.device_array(n_groups, dtype=np.int64, stream=stream) for _ in range(2)]
+    copied = [cuda.event(), cuda.event()]
+    blocks = (n_lanes + THREADS_PER_BLOCK - 1) // THREADS_PER_BLOCK
+    t_end, dt = float(t_end), float(dt)
+    b = 0
+    _fill_tapes(normal_coeffs, carries, works, tapes[b], rows[b], status, t_end, dt)
+    while np.all(status <= 1):
+        d_tapes[b].copy_to_device(tapes[b], stream=stream)
+        d_rows[b].copy_to_device(rows[b], stream=stream)
+        copied[b].record(stream)
+        kernel[blocks, THREADS_PER_BLOCK, stream](
+            d_tapes[b], d_rows[b], d_group, d_lanes, d_switches, d_flagged, d_stalled
+        )
+        if not np.any(status == 1):
+            break
+        b = 1 - b
+        copied[b].synchronize()  # the host buffer's last copy (two blocks ago) is done
+        _fill_tapes(normal_coeffs, carries, works, tapes[b], rows[b], status, t_end, dt)
+    stalled = d_stalled.copy_to_host(stream=stream)
+    lanes = d_lanes.copy_to_host(stream=stream)
+    switches = d_switches.copy_to_host(stream=stream)
+    flagged = d_flagged.copy_to_host(stream=stream)
+    stream.synchronize()
+    raise_on_failure(np.where(status > 1, status, OK), "shared-normal kernel (CUDA)")
+    group_status = np.full(n_groups, OK, dtype=np.int64)
+    group_status[lane_group[stalled != 0]] = LANE_STALLED
+    raise_on_failure(group_status, "shared-normal kernel (CUDA)")
+    return unpack_lanes(lanes, order, switches, flagged)

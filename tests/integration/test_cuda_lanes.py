@@ -1,0 +1,192 @@
+"""The shared-normal lanes on a GPU (integrators/shared_lanes_cuda.py).
+
+Without a GPU (CI) the kernel runs under numba's CUDA simulator in a subprocess: Python
+arithmetic without FMA, so it must give the CPU kernel's bits. That catches what the
+port can get wrong (a lane reading another set-up's tape, a block of tapes lost or
+replayed, a lane state not written back, the start-mode rule, the count columns).
+Where a GPU is found the same lanes run on it and must agree with the CPU kernel to
+rounding (the GPU contracts multiply-adds).
+"""
+
+from __future__ import annotations
+
+import os
+import subprocess
+import sys
+import textwrap
+
+import numpy as np
+import pytest
+from cli_inprocess import run as run_cli
+
+import microslip as ms
+from microslip.integrators import shared_lanes_cuda as slc
+from microslip.integrators.normal_tape import normal_coefficients
+from microslip.integrators.shared_lanes import run_shared
+
+PARAMS = ms.Parameters()
+DT = PARAMS.natural_period / 200
+
+
+def mixed_lanes(n_steps: int):
+    """Set-ups of every kind in one run (free with and without flights, forced with
+    damping), lanes shuffled across them, with zero force, F > μ m g, μ_s > μ_k and a
+    moving start. Returns the arguments of run_shared."""
+    from microslip.simulation import initial_state_from_amplitude
+
+    y0 = PARAMS.static_deflection
+    free = normal_coefficients(ms.Model(PARAMS).pack(0.0))
+    forced_model = ms.Model(
+        PARAMS, damping=ms.Viscous(0.05), excitation=ms.HarmonicForce(3.0, 1400.0)
+    )
+    forced = normal_coefficients(forced_model.pack(0.0))
+    coeffs = np.array([free, free, free, forced])
+    normal0 = np.array(
+        [initial_state_from_amplitude(PARAMS, a)[:2] for a in (0.0, 0.6 * y0, 2.5 * y0)]
+        + [[y0, 0.0]]
+    )
+    mg = PARAMS.mass * PARAMS.g
+    forces = np.array([0.0, 0.2, 0.5, 0.7, 0.95, 1.3]) * PARAMS.mu * mg
+    groups = np.repeat(np.arange(4), forces.size)
+    lane_forces = np.tile(forces, 4)
+    mu_s = np.full(lane_forces.size, PARAMS.mu)
+    mu_k = mu_s.copy()
+    mu_k[1::3] *= 0.8  # static above kinetic on a third of the lanes
+    v0 = np.zeros(lane_forces.size)
+    v0[5::7] = 1e-5  # a few lanes start sliding
+    order = np.random.default_rng(3).permutation(lane_forces.size)
+    return (
+        coeffs, normal0, groups[order], lane_forces[order], mu_s[order], mu_k[order],
+        n_steps * DT, DT, None, v0[order],
+    )  # fmt: skip
+
+
+SIMULATED = textwrap.dedent(
+    """
+    import numpy as np
+    from test_cuda_lanes import mixed_lanes
+    from microslip.integrators.shared_lanes import run_shared
+    from microslip.integrators.shared_lanes_cuda import cuda_unavailable, run_shared_cuda
+
+    assert cuda_unavailable() is None
+    args = mixed_lanes(240)
+    cpu = run_shared(*args)
+    gpu = run_shared_cuda(*args, tape_rows=24)  # ten blocks of tapes
+    for name, a, b in zip(("x", "v", "mode", "switches", "flagged"), cpu, gpu):
+        assert np.array_equal(a, b), (name, a, b)
+    moving = np.abs(cpu[0]) > 0
+    assert cpu[3].sum() > 15 and moving.sum() > 10, (cpu[3].sum(), moving.sum())
+    print("same bits", int(cpu[3].sum()), "switches")
+
+    # The public path: velocity_map / sweep with backend="cuda", free and forced.
+    import tempfile
+    from pathlib import Path
+    import pytest
+    import microslip as ms
+    from microslip.sweeps.store import StoreMismatchError
+
+    options = dict(method="time", duration=0.0005)
+    free = dict(forces=[0.3, 0.6, 0.9], amplitudes=[1e-7, 4e-7], **options)
+    on_cpu = ms.velocity_map(**free)
+    on_gpu = ms.velocity_map(**free, backend="cuda")
+    assert np.array_equal(on_cpu.values, on_gpu.values) and np.abs(on_cpu.values).max() > 0
+    forced = ms.Model(damping=ms.Viscous(0.05), excitation=ms.HarmonicForce(3.0, 1400.0))
+    axes = {"excitation.amplitude": [1.0, 3.0]}
+    on_cpu = ms.sweep(forced, axes, force=[0.3, 0.9], **options)
+    on_gpu = ms.sweep(forced, axes, force=[0.3, 0.9], **options, backend="cuda")
+    assert np.array_equal(on_cpu.values, on_gpu.values)
+    # A store computed on one backend is not resumed on the other (bits would mix).
+    with tempfile.TemporaryDirectory() as tmp:
+        store = Path(tmp) / "map.zarr"
+        ms.velocity_map(**free, store=store, backend="cuda")
+        with pytest.raises(StoreMismatchError, match="differs in: backend"):
+            ms.velocity_map(**free, store=store)
+    print("public path same bits")
+    """
+)
+
+
+def test_simulated_gpu_kernel_gives_the_cpu_kernels_bits():
+    env = dict(os.environ, NUMBA_ENABLE_CUDASIM="1")
+    env["PYTHONPATH"] = os.pathsep.join(
+        [os.path.dirname(__file__), *filter(None, [env.get("PYTHONPATH")])]
+    )
+    run = subprocess.run(
+        [sys.executable, "-c", SIMULATED], env=env, capture_output=True, text=True, timeout=500
+    )
+    assert run.returncode == 0, run.stderr[-3000:]
+    assert "public path same bits" in run.stdout
+
+
+def test_without_a_gpu_the_cuda_path_refuses_in_one_line(monkeypatch):
+    monkeypatch.setattr(slc, "cuda", None)
+    monkeypatch.setattr(slc, "_IMPORT_ERROR", "no module named 'numba.cuda'", raising=False)
+    reason = slc.cuda_unavailable()
+    assert reason is not None and "\n" not in reason and "numba.cuda" in reason
+    with pytest.raises(RuntimeError, match="CUDA target cannot be imported"):
+        slc.run_shared_cuda(*mixed_lanes(4))
+
+
+@pytest.mark.skipif(slc.cuda_unavailable() is not None, reason="needs a CUDA GPU")
+def test_gpu_lanes_agree_with_the_cpu_kernel():
+    args = mixed_lanes(4000)
+    cpu = run_shared(*args)
+    gpu = slc.run_shared_cuda(*args, tape_rows=512)  # eight blocks of tapes
+    scale = np.abs(cpu[0]).max()
+    assert scale > 0
+    assert np.abs(gpu[0] - cpu[0]).max() <= 1e-9 * scale
+    assert np.abs(gpu[1] - cpu[1]).max() <= 1e-9 * np.abs(cpu[1]).max()
+    assert np.array_equal(gpu[2], cpu[2])
+
+
+@pytest.mark.skipif(slc.cuda_unavailable() is not None, reason="needs a CUDA GPU")
+def test_gpu_velocity_map_agrees_with_the_cpu_one():
+    forces = np.linspace(0.05, 0.95, 64)
+    amplitudes = np.linspace(0.0, 3e-7, 16)
+    options = dict(forces=forces, amplitudes=amplitudes, method="time", duration=0.01)
+    on_cpu = ms.velocity_map(**options).values
+    on_gpu = ms.velocity_map(**options, backend="cuda").values
+    assert np.abs(on_gpu - on_cpu).max() <= 1e-9 * np.abs(on_cpu).max()
+
+
+NO_GPU = slc.cuda_unavailable()
+TIME = dict(forces=[0.3, 0.6], amplitudes=[1e-7], method="time", duration=0.001)
+
+
+@pytest.mark.parametrize(
+    ("model", "options", "words"),
+    [
+        (None, dict(TIME, backend="gpu"), ["backend must be one of cpu, cuda", "'gpu'"]),
+        (None, dict(TIME, method="steady", duration=None, backend="cuda"),
+         ["backend='cuda' runs method='time' only"]),
+        (ms.Model(tangential=ms.TangentialSpring(1e6)), dict(TIME, backend="cuda"),
+         ["TangentialSpring runs on the CPU", "'spring' kernel"]),
+        (ms.Model(drive=ms.PrescribedVelocity(1e-4)), dict(backend="cuda"),
+         ["does not apply to an effective-friction sweep"]),
+    ],
+)  # fmt: skip
+def test_a_sweep_the_gpu_cannot_run_is_refused_in_one_line(model, options, words):
+    if isinstance(model, ms.Model) and model.is_kinematic:
+        call = lambda: ms.sweep(model, {"drive.velocity": [1e-4]}, amplitude=1e-7, **options)  # noqa: E731
+    else:
+        call = lambda: ms.velocity_map(model, **options)  # noqa: E731
+    with pytest.raises(ValueError) as error:
+        call()
+    message = str(error.value)
+    assert "\n" not in message
+    for word in words:
+        assert word in message
+
+
+@pytest.mark.skipif(NO_GPU is None, reason="a GPU is present")
+def test_without_a_gpu_backend_cuda_says_why(capsys, tmp_path, monkeypatch):
+    with pytest.raises(ValueError, match="backend='cuda': no CUDA GPU"):
+        ms.velocity_map(**TIME, backend="cuda")
+    monkeypatch.chdir(tmp_path)
+    status, out, err = run_cli(
+        capsys, "map", "--method", "time", "--backend", "cuda", "--force", "0.3",
+        "--amplitude", "1e-7", "--duration", "0.001", "--out", "m.nc",
+    )  # fmt: skip
+    assert status == 2 and out == ""
+    assert len(err.strip().splitlines()) == 1 and "backend='cuda'" in err
+    assert list(tmp_path.iterdir()) == []
