@@ -9,6 +9,7 @@
 #                     as errors, gallery and tutorial executed) into docs/_build/html
 #   make bench        the performance table of #10 (job, microslip, peer, ratio, accuracy)
 #                     and a scaling plot in benchmarks/out/ (BENCH_ARGS=--quick: ~1 min)
+#   make bench-cuda   the time maps on an NVIDIA GPU against the CPU kernel (needs a GPU)
 #   make docs-check   checks the built site's links and images, and screenshots it with
 #                     headless Chromium (Debian: apt-get install chromium; not run by CI)
 PYTHON ?= python3
@@ -18,7 +19,7 @@ STAMP  := $(VENV)/.installed
 FIGDIR ?= figures
 EXTDIR ?= $(FIGDIR)/ext
 
-.PHONY: paper figures-ext test lint format bench clean env mutate
+.PHONY: paper figures-ext test lint format bench bench-cuda clean env mutate
 
 env: $(STAMP)
 
@@ -47,6 +48,9 @@ format: $(STAMP)
 
 bench: $(STAMP)
 	$(BIN)/python benchmarks/bench_table.py $(BENCH_ARGS)
+
+bench-cuda: $(STAMP)
+	$(BIN)/python benchmarks/bench_cuda.py $(BENCH_ARGS)
 
 # Mutation testing of model/, integrators/ and analysis/ in a scratch copy, one mutant at a
 # time. MUTATE_ARGS: --no-jit (screen fast), --module src/microslip/..., --only FILE:LINE.
