@@ -5,7 +5,8 @@
 Runs only where numba's CUDA target finds a GPU (otherwise it says why and exits 0).
 Each job runs the same lanes through :func:`~microslip.integrators.shared_lanes.run_shared`
 (every CPU core) and :func:`~microslip.integrators.shared_lanes_cuda.run_shared_cuda`
-(tapes on the CPU cores, lanes on the GPU) on the same machine, warm (compile times
+(tapes on the CPU cores, lanes on the GPU) on the same machine (for a TangentialSpring
+their spring-lane counterparts), warm (compile times
 reported apart), best of three; and reports the GPU path's run time with the lanes
 skipped (the tapes alone: the CPU's share), the two paths' largest difference and,
 for the paper map, the error against the event method at rtol 1e-12 on sample points.
@@ -27,6 +28,8 @@ import microslip as ms
 from microslip.integrators import shared_lanes_cuda as slc
 from microslip.integrators.normal_tape import normal_coefficients
 from microslip.integrators.shared_lanes import run_shared
+from microslip.integrators.spring_lanes import run_spring_lanes
+from microslip.integrators.spring_lanes_cuda import run_spring_lanes_cuda
 from microslip.simulation import initial_state_from_amplitude
 
 PARAMS = ms.Parameters()
@@ -69,6 +72,15 @@ def forced_lanes(n_forces, n_amplitudes):
     return coeffs, normal0, forces, amplitudes, dt
 
 
+def spring_lanes(n_forces, n_amplitudes):
+    """The paper map's set-ups on TangentialSpring(K_n), dt = 1/200 of the shorter of T0
+    and the body's tangential period (the sweep's default)."""
+    coeffs, normal0, forces, amplitudes, _ = free_lanes(n_forces, n_amplitudes)
+    k_t = PARAMS.contact_stiffness
+    dt = min(T0, 2.0 * np.pi * np.sqrt(PARAMS.mass / k_t)) / 200
+    return coeffs, normal0, forces, amplitudes, dt, np.full(n_amplitudes, k_t)
+
+
 def lane_arrays(coeffs, forces):
     n_groups = coeffs.shape[0]
     groups = np.repeat(np.arange(n_groups), forces.size)
@@ -78,17 +90,23 @@ def lane_arrays(coeffs, forces):
 
 
 def job(name, setup, n_forces, n_amplitudes, rows, event_check=False):
-    coeffs, normal0, forces, amplitudes, dt = setup(n_forces, n_amplitudes)
+    coeffs, normal0, forces, amplitudes, dt, *stiffness = setup(n_forces, n_amplitudes)
     groups, lane_forces, mu = lane_arrays(coeffs, forces)
-    args = (coeffs, normal0, groups, lane_forces, mu, mu, DURATION, dt)
-    cpu, cpu_s = best_time(run_shared, *args)
-    gpu, gpu_s = best_time(slc.run_shared_cuda, *args)
+    if stiffness:
+        args = (coeffs, normal0, stiffness[0], groups, lane_forces, mu, mu, DURATION, dt)
+        on_cpu, on_gpu = run_spring_lanes, run_spring_lanes_cuda
+    else:
+        args = (coeffs, normal0, groups, lane_forces, mu, mu, DURATION, dt)
+        on_cpu, on_gpu = run_shared, slc.run_shared_cuda
+    cpu, cpu_s = best_time(on_cpu, *args)
+    gpu, gpu_s = best_time(on_gpu, *args)
     tapes_s = best_time(_tapes_only, coeffs, normal0, DURATION, dt)[1]
     steps = DURATION / dt
     lane_steps = lane_forces.size * steps
     v_cpu, v_gpu = cpu[0] / DURATION, gpu[0] / DURATION
     scale = np.abs(v_cpu).max()
     diff = float(np.abs(v_gpu - v_cpu).max() / scale)
+    n_switches = 4 if stiffness else 3  # the switch counts' column
     row = {
         "job": f"{name}, {n_forces}x{n_amplitudes}, {DURATION} s",
         "cpu_s": cpu_s,
@@ -98,8 +116,8 @@ def job(name, setup, n_forces, n_amplitudes, rows, event_check=False):
         "gpu_throughput": lane_steps / gpu_s,
         "speedup": cpu_s / gpu_s,
         "gpu_vs_cpu": diff,
-        "switches": int(gpu[3].sum()),
-        "switches_cpu": int(cpu[3].sum()),
+        "switches": int(gpu[n_switches].sum()),
+        "switches_cpu": int(cpu[n_switches].sum()),
     }
     if event_check:
         rng = np.random.default_rng(1)
@@ -146,10 +164,13 @@ def main(argv=None) -> int:
     compile_started = time.perf_counter()
     tiny = free_lanes(2, 2)
     groups, lane_forces, mu = lane_arrays(tiny[0], tiny[2])
+    k_t = np.full(2, PARAMS.contact_stiffness)
     run_shared(tiny[0], tiny[1], groups, lane_forces, mu, mu, 20 * tiny[4], tiny[4])
+    run_spring_lanes(tiny[0], tiny[1], k_t, groups, lane_forces, mu, mu, 20 * tiny[4], tiny[4])
     cpu_compile = time.perf_counter() - compile_started
     compile_started = time.perf_counter()
     slc.run_shared_cuda(tiny[0], tiny[1], groups, lane_forces, mu, mu, 20 * tiny[4], tiny[4])
+    run_spring_lanes_cuda(tiny[0], tiny[1], k_t, groups, lane_forces, mu, mu, 20 * tiny[4], tiny[4])
     info["compile_cpu_s"] = cpu_compile
     info["compile_gpu_path_s"] = time.perf_counter() - compile_started
     print(json.dumps(info), flush=True)
@@ -158,6 +179,8 @@ def main(argv=None) -> int:
     for n_forces, n_amplitudes in sizes:
         job("paper", free_lanes, n_forces, n_amplitudes, rows, event_check=n_forces == 256)
     job("Viscous(0.05)+HarmonicForce", forced_lanes, 256, 16 if args.quick else 64, rows)
+    for n_forces, n_amplitudes in [(64, 16)] if args.quick else [(256, 64), (1024, 256)]:
+        job("TangentialSpring(K_n)", spring_lanes, n_forces, n_amplitudes, rows)
     print(f"\n{'job':46} {'CPU s':>8} {'GPU s':>8} {'tapes s':>8} {'GPU steps*traj/s':>17} "
           f"{'x CPU':>6} {'|GPU-CPU|':>9}")  # fmt: skip
     for row in rows:

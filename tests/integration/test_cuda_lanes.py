@@ -61,6 +61,21 @@ def mixed_lanes(n_steps: int):
     )  # fmt: skip
 
 
+def spring_lanes(n_steps: int):
+    """Spring set-ups (free with and without flights, forced with damping, a stiff and
+    a soft spring), lanes by set-up. Returns the arguments of run_spring_lanes."""
+    args = mixed_lanes(n_steps)
+    coeffs, normal0, n_groups = args[0], args[1], args[0].shape[0]
+    stiffness = PARAMS.contact_stiffness * np.array([1.0, 0.3, 2.0, 1.0])
+    forces = np.array([0.0, 0.2, 0.5, 0.7, 0.95, 1.3]) * PARAMS.mu * PARAMS.mass * PARAMS.g
+    lane_forces = np.tile(forces, n_groups)
+    mu_s = np.full(lane_forces.size, PARAMS.mu)
+    mu_k = mu_s.copy()
+    mu_k[1::3] *= 0.8
+    groups = np.repeat(np.arange(n_groups), forces.size)
+    return coeffs, normal0, stiffness, groups, lane_forces, mu_s, mu_k, n_steps * DT, DT
+
+
 SIMULATED = textwrap.dedent(
     """
     import numpy as np
@@ -77,6 +92,18 @@ SIMULATED = textwrap.dedent(
     moving = np.abs(cpu[0]) > 0
     assert cpu[3].sum() > 15 and moving.sum() > 10, (cpu[3].sum(), moving.sum())
     print("same bits", int(cpu[3].sum()), "switches")
+
+    from test_cuda_lanes import spring_lanes
+    from microslip.integrators.spring_lanes import run_spring_lanes
+    from microslip.integrators.spring_lanes_cuda import run_spring_lanes_cuda
+
+    args = spring_lanes(240)
+    cpu = run_spring_lanes(*args)
+    gpu = run_spring_lanes_cuda(*args, tape_rows=24)
+    for name, a, b in zip(("x", "v", "f", "mode", "switches", "flagged"), cpu, gpu):
+        assert np.array_equal(a, b), (name, a, b)
+    assert cpu[4].sum() > 15 and (cpu[3] == 2.0).any() and (np.abs(cpu[0]) > 0).sum() > 10
+    print("spring same bits", int(cpu[4].sum()), "switches")
 
     # The public path: velocity_map / sweep with backend="cuda", free and forced.
     import tempfile
@@ -95,6 +122,11 @@ SIMULATED = textwrap.dedent(
     on_cpu = ms.sweep(forced, axes, force=[0.3, 0.9], **options)
     on_gpu = ms.sweep(forced, axes, force=[0.3, 0.9], **options, backend="cuda")
     assert np.array_equal(on_cpu.values, on_gpu.values)
+    spring = ms.Model(tangential=ms.TangentialSpring(ms.Parameters().contact_stiffness))
+    on_cpu = ms.sweep(spring, None, force=[0.3, 0.9], amplitude=[1e-7, 4e-7], **options)
+    on_gpu = ms.sweep(spring, None, force=[0.3, 0.9], amplitude=[1e-7, 4e-7], **options,
+                      backend="cuda")
+    assert np.array_equal(on_cpu.values, on_gpu.values) and np.abs(on_cpu.values).max() > 0
     # A store computed on one backend is not resumed on the other (bits would mix).
     with tempfile.TemporaryDirectory() as tmp:
         store = Path(tmp) / "map.zarr"
@@ -140,6 +172,19 @@ def test_gpu_lanes_agree_with_the_cpu_kernel():
 
 
 @pytest.mark.skipif(slc.cuda_unavailable() is not None, reason="needs a CUDA GPU")
+def test_gpu_spring_lanes_agree_with_the_cpu_kernel():
+    from microslip.integrators.spring_lanes import run_spring_lanes
+    from microslip.integrators.spring_lanes_cuda import run_spring_lanes_cuda
+
+    args = spring_lanes(4000)
+    cpu = run_spring_lanes(*args)
+    gpu = run_spring_lanes_cuda(*args, tape_rows=512)
+    for k in range(3):  # x, ẋ, f
+        assert np.abs(gpu[k] - cpu[k]).max() <= 1e-9 * np.abs(cpu[k]).max()
+    assert np.array_equal(gpu[3], cpu[3])
+
+
+@pytest.mark.skipif(slc.cuda_unavailable() is not None, reason="needs a CUDA GPU")
 def test_gpu_velocity_map_agrees_with_the_cpu_one():
     forces = np.linspace(0.05, 0.95, 64)
     amplitudes = np.linspace(0.0, 3e-7, 16)
@@ -159,8 +204,8 @@ TIME = dict(forces=[0.3, 0.6], amplitudes=[1e-7], method="time", duration=0.001)
         (None, dict(TIME, backend="gpu"), ["backend must be one of cpu, cuda", "'gpu'"]),
         (None, dict(TIME, method="steady", duration=None, backend="cuda"),
          ["backend='cuda' runs method='time' only"]),
-        (ms.Model(tangential=ms.TangentialSpring(1e6)), dict(TIME, backend="cuda"),
-         ["TangentialSpring runs on the CPU", "'spring' kernel"]),
+        (ms.Model(tangential=ms.MindlinSpring(0.8)), dict(TIME, backend="cuda"),
+         ["MindlinSpring runs on the CPU", "'batched' kernel"]),
         (ms.Model(drive=ms.PrescribedVelocity(1e-4)), dict(backend="cuda"),
          ["does not apply to an effective-friction sweep"]),
     ],

@@ -106,3 +106,24 @@ def test_a_stick_from_its_limit_finds_the_next_release(tau_root):
     noise = 1e-15 * (mu_s * d0 + force)
     tau = law._first_exit(law._STICK, a, p, mu_s * d2, mu_s * d3, noise, 0.0, 1.0)
     assert tau_root <= tau <= tau_root + 1e-9
+
+
+@pytest.mark.parametrize("ulps", [-4.0, 4.0])
+def test_a_stick_off_its_limit_by_rounding_still_finds_the_next_release(ulps):
+    """As above with the spring force a few ulps off the limit μ_s P(0), either way:
+    what fused multiply-adds leave of μ_s P - μ_k P at a stop (a GPU compiles a*b - c
+    as one rounding; docs/theory/numerics.md). Within the rounding the start is inside:
+    the search must find τ_r, not a release at 0, which a lane repeats at every stop
+    until it stalls (as the spring lanes did on an H100 before the test took the
+    rounding into account)."""
+    mu_s, force, c, tau_root = 0.1, 0.5, 0.02, 0.3
+    a = (force / mu_s, 0.0, c * tau_root / mu_s, -c / mu_s, 0.0)
+    d0, _, d2, d3 = law.derivative_bounds(a)
+    f_a = force * (1.0 + ulps * 2.0**-52)
+    assert (mu_s * a[0] - f_a < 0.0) == (ulps > 0)
+    p = (0.0, 0.01, f_a - force, 0.0, f_a, mu_s, 0.0)
+    noise = 1e-15 * (mu_s * d0 + f_a)
+    bound2 = mu_s * d2 + 1e-4 * abs(f_a - force)
+    bound3 = mu_s * d3 + 1e-6 * abs(f_a - force)
+    tau = law._first_exit(law._STICK, a, p, bound2, bound3, noise, 0.0, 1.0)
+    assert tau_root <= tau <= tau_root + 1e-9

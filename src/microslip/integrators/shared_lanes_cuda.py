@@ -137,48 +137,21 @@ def _fill_tapes(normal_c, carries, works, tapes, rows, status, t_end, dt):
                                           works[g])  # fmt: skip
 
 
-def run_shared_cuda(normal_coeffs, normal_states0, group_of_lane, forces, mu_static,
-                    mu_kinetic, t_end, dt, x0=None, v0=None, tape_rows=None):  # fmt: skip
-    """:func:`~microslip.integrators.shared_lanes.run_shared` with the lanes on the GPU
-    (same arguments and returns, SI units); ``tape_rows`` sets the pieces per set-up
-    in a block of tapes (default: TAPE_ROWS, fewer where the block would exceed
-    TAPE_BLOCK_BYTES). Raises RuntimeError when no GPU can be used
-    (:func:`cuda_unavailable`) or a normal integration or a lane fails."""
-    reason = cuda_unavailable()
-    if reason is not None:
-        raise RuntimeError(reason)
-
-    normal_coeffs = np.ascontiguousarray(normal_coeffs, dtype=np.float64)
-    normal_states0 = np.asarray(normal_states0, dtype=np.float64)
+def run_blocks(kernel, normal_coeffs, normal_states0, n_lanes, t_end, dt, tape_rows, stream,
+               lane_args):  # fmt: skip
+    """Fill every set-up's tape block by block on the CPU cores and run
+    ``kernel[blocks, THREADS_PER_BLOCK, stream](tapes, rows, *lane_args)`` on each block
+    (one thread per lane; ``lane_args`` on the GPU, in ``stream``). Returns the status
+    per set-up (0, or a normal integration's failure) once the work is queued: the
+    caller's copies back on ``stream`` wait for it."""
     n_groups = normal_coeffs.shape[0]
-    lanes, order, starts = pack_lanes(
-        normal_coeffs, group_of_lane, forces, mu_static, mu_kinetic, x0, v0
-    )
-    n_lanes = order.size
-    switches = np.zeros(n_lanes, dtype=np.int64)
-    flagged = np.zeros(n_lanes, dtype=np.int64)
-    if n_lanes == 0:
-        return unpack_lanes(lanes, order, switches, flagged)
     carries = np.empty((n_groups, nt.CARRY))
     for g in range(n_groups):
-        y0, ydot0 = normal_states0[g, 0], normal_states0[g, 1]
-        carries[g] = nt.start_tape(y0, ydot0)
-        start_modes(lanes, starts[g], starts[g + 1], normal_force(0.0, y0, ydot0,
-                                                                  normal_coeffs[g]))  # fmt: skip
+        carries[g] = nt.start_tape(normal_states0[g, 0], normal_states0[g, 1])
     if tape_rows is None:
-        tape_rows = TAPE_ROWS
-        tape_rows = max(16, min(tape_rows, TAPE_BLOCK_BYTES // (n_groups * nt.ROW * 8)))
+        tape_rows = max(16, min(TAPE_ROWS, TAPE_BLOCK_BYTES // (n_groups * nt.ROW * 8)))
     works = np.zeros((n_groups, nt.WORK_SCRATCH, nt.N_STATE))
     status = np.ones(n_groups, dtype=np.int64)
-    lane_group = np.repeat(np.arange(n_groups), np.diff(starts))
-
-    kernel = _kernel()
-    stream = cuda.stream()
-    d_lanes = cuda.to_device(lanes, stream=stream)
-    d_switches = cuda.to_device(switches, stream=stream)
-    d_flagged = cuda.to_device(flagged, stream=stream)
-    d_stalled = cuda.to_device(np.zeros(n_lanes, dtype=np.int64), stream=stream)
-    d_group = cuda.to_device(lane_group, stream=stream)
     # Two blocks of tapes in flight: page-locked on the host (asynchronous copies), one
     # filled by the CPU while the other is copied and run. One stream keeps each
     # block's copy before its kernel and the kernels in order.
@@ -196,21 +169,63 @@ def run_shared_cuda(normal_coeffs, normal_states0, group_of_lane, forces, mu_sta
         d_tapes[b].copy_to_device(tapes[b], stream=stream)
         d_rows[b].copy_to_device(rows[b], stream=stream)
         copied[b].record(stream)
-        kernel[blocks, THREADS_PER_BLOCK, stream](
-            d_tapes[b], d_rows[b], d_group, d_lanes, d_switches, d_flagged, d_stalled
-        )
+        kernel[blocks, THREADS_PER_BLOCK, stream](d_tapes[b], d_rows[b], *lane_args)
         if not np.any(status == 1):
             break
         b = 1 - b
         copied[b].synchronize()  # the host buffer's last copy (two blocks ago) is done
         _fill_tapes(normal_coeffs, carries, works, tapes[b], rows[b], status, t_end, dt)
+    return np.where(status > 1, status, OK)
+
+
+def raise_on_stalled(stalled, lane_group, n_groups, kernel):
+    """RuntimeError naming the first set-up with a lane that stalled (``stalled`` != 0)."""
+    group_status = np.full(n_groups, OK, dtype=np.int64)
+    group_status[lane_group[stalled != 0]] = LANE_STALLED
+    raise_on_failure(group_status, kernel)
+
+
+def run_shared_cuda(normal_coeffs, normal_states0, group_of_lane, forces, mu_static,
+                    mu_kinetic, t_end, dt, x0=None, v0=None, tape_rows=None):  # fmt: skip
+    """:func:`~microslip.integrators.shared_lanes.run_shared` with the lanes on the GPU
+    (same arguments and returns, SI units); ``tape_rows`` sets the pieces per set-up
+    in a block of tapes (default: TAPE_ROWS, fewer where the block would exceed
+    TAPE_BLOCK_BYTES). Raises RuntimeError when no GPU can be used
+    (:func:`cuda_unavailable`) or a normal integration or a lane fails."""
+    reason = cuda_unavailable()
+    if reason is not None:
+        raise RuntimeError(reason)
+    normal_coeffs = np.ascontiguousarray(normal_coeffs, dtype=np.float64)
+    normal_states0 = np.asarray(normal_states0, dtype=np.float64)
+    n_groups = normal_coeffs.shape[0]
+    lanes, order, starts = pack_lanes(
+        normal_coeffs, group_of_lane, forces, mu_static, mu_kinetic, x0, v0
+    )
+    n_lanes = order.size
+    switches = np.zeros(n_lanes, dtype=np.int64)
+    flagged = np.zeros(n_lanes, dtype=np.int64)
+    if n_lanes == 0:
+        return unpack_lanes(lanes, order, switches, flagged)
+    for g in range(n_groups):
+        y0, ydot0 = normal_states0[g, 0], normal_states0[g, 1]
+        n0 = normal_force(0.0, y0, ydot0, normal_coeffs[g])
+        start_modes(lanes, starts[g], starts[g + 1], n0)
+    lane_group = np.repeat(np.arange(n_groups), np.diff(starts))
+    stream = cuda.stream()
+    d_lanes = cuda.to_device(lanes, stream=stream)
+    d_switches = cuda.to_device(switches, stream=stream)
+    d_flagged = cuda.to_device(flagged, stream=stream)
+    d_stalled = cuda.to_device(np.zeros(n_lanes, dtype=np.int64), stream=stream)
+    d_group = cuda.to_device(lane_group, stream=stream)
+    status = run_blocks(
+        _kernel(), normal_coeffs, normal_states0, n_lanes, t_end, dt, tape_rows, stream,
+        (d_group, d_lanes, d_switches, d_flagged, d_stalled),
+    )  # fmt: skip
     stalled = d_stalled.copy_to_host(stream=stream)
     lanes = d_lanes.copy_to_host(stream=stream)
     switches = d_switches.copy_to_host(stream=stream)
     flagged = d_flagged.copy_to_host(stream=stream)
     stream.synchronize()
-    raise_on_failure(np.where(status > 1, status, OK), "shared-normal kernel (CUDA)")
-    group_status = np.full(n_groups, OK, dtype=np.int64)
-    group_status[lane_group[stalled != 0]] = LANE_STALLED
-    raise_on_failure(group_status, "shared-normal kernel (CUDA)")
+    raise_on_failure(status, "shared-normal kernel (CUDA)")
+    raise_on_stalled(stalled, lane_group, n_groups, "shared-normal kernel (CUDA)")
     return unpack_lanes(lanes, order, switches, flagged)

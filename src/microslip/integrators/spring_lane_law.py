@@ -148,14 +148,18 @@ def _first_exit(kind, a, p, bound2, bound3, noise, lo, hi):
     rounding of g.
 
     It marches by safe steps (:func:`_safe_step`), so no crossing is skipped: near a
-    simple root the steps are Newton's from the inside (quadratic). The steps take g as
-    g + noise: a dip below zero no deeper than the rounding is not a crossing, and a
-    tangency within the rounding (a stick whose force returns exactly to the limit, as
-    at constant N) is passed in a few steps instead of crept along."""
+    simple root the steps are Newton's from the inside (quadratic). Both the test and
+    the steps take g as g + noise: a dip below zero no deeper than the rounding is not a
+    crossing, and a tangency within the rounding (a stick whose force returns exactly to
+    the limit, as at constant N) is passed, not taken for a release (40-150 steps there:
+    the approach halves its distance per step until the second-order proof holds). A
+    search that starts on its boundary (a stick at f = μ_k N = μ_s N after a stop) then
+    starts inside however its terms were rounded: with multiply-adds fused (a GPU) the
+    margin μ_s P - μ_k P there is a rounding error of either sign, not 0."""
     tau = lo
     for _ in range(_MAX_STEPS):
         g1, r1, c1, g2, r2, c2 = _value(kind, a, p, tau)
-        if not _inside(kind, min(g1, g2)):
+        if not _inside(kind, min(g1, g2) + noise):
             return tau
         step = min(
             _safe_step(g1 + noise, r1, c1, bound2, bound3),
@@ -167,7 +171,7 @@ def _first_exit(kind, a, p, bound2, bound3, noise, lo, hi):
             if step > 0.5 * _TAU_TOLERANCE:
                 return 2.0  # [τ, hi] was safe
             g1, _, _, g2, _, _ = _value(kind, a, p, hi)
-            return hi if not _inside(kind, min(g1, g2)) else 2.0
+            return hi if not _inside(kind, min(g1, g2) + noise) else 2.0
     return -1.0
 
 

@@ -54,69 +54,88 @@ FORCE, FM, KM, MU_S, MU_K, X, V, FS, MODE, FLAG = range(10)
 LANE_ROWS = 10
 
 
-@njit(cache=True, error_model="numpy")
-def _vector_pass(lanes, n, a, piece, h_int, h2_kint):
-    """A contact piece for every lane as if it held no switch: branch-free, vectorised.
-    A lane whose switching function may reach its boundary inside (module doc), or that
-    lands here, is flagged and keeps its state. Returns the number flagged."""
+@njit(cache=True, inline="always", error_model="numpy")
+def piece_constants(a, piece, h_int, h2_kint):
+    """The numbers of a contact piece that every lane shares (a tuple for
+    :func:`free_piece`): the oscillator's sin and cos over the piece, the ends of P and
+    P', the bounds' factors; ``h_int`` = h I(1), ``h2_kint`` = h² K(1)."""
     h, theta, omega, k_t = piece[P_H], piece[P_THETA], piece[P_OMEGA], piece[P_KT]
     mass, d1, d2, d3 = piece[P_MASS], piece[P_D1], piece[P_D2], piece[P_D3]
     sin_t = math.sin(theta)
     half = math.sin(0.5 * theta)
     cos_minus_one = -2.0 * half * half
-    sin_over_omega = sin_t / omega
-    sin_over_m_omega = sin_t / (mass * omega)
-    cm1_over_kt = cos_minus_one / k_t
-    kt_over_omega = k_t / omega
-    inv_kt_h = 1.0 / (k_t * h)
-    p0, p1 = a[0], nt.poly(a, 1.0)
-    rate0, rate1 = a[1], nt.poly_rate(a, 1.0)
-    theta2_8 = theta * theta / 8.0
-    d2_8 = d2 / 8.0
-    h_d1_8 = h * d1 / 8.0
-    d3_8 = d3 / 8.0
-    h2_half = 0.5 * h * h
+    return (
+        h, sin_t, cos_minus_one, sin_t / omega, sin_t / (mass * omega), cos_minus_one / k_t,
+        k_t / omega, 1.0 / (k_t * h), a[0], nt.poly(a, 1.0), a[1], nt.poly_rate(a, 1.0),
+        theta * theta / 8.0, d2 / 8.0, h * d1 / 8.0, d3 / 8.0, 0.5 * h * h, h_int, h2_kint,
+    )  # fmt: skip
+
+
+@njit(cache=True, inline="always", error_model="numpy")
+def free_piece(k, s, xi, vi, fi, force, fm, km, mu_s, mu_k):
+    """(flag, x1, ẋ1, f1) of a lane over a contact piece as if it held no switch (the
+    oscillator in stick, the rigid law in slip), ``k`` from :func:`piece_constants`;
+    ``flag`` where its switching function may reach its boundary inside (module doc) or
+    it lands here: then :func:`~microslip.integrators.spring_lane_law.lane_piece` must
+    redo it. Branch-free."""
+    h, sin_t, cos_minus_one, sin_over_omega, sin_over_m_omega, cm1_over_kt = k[:6]
+    kt_over_omega, inv_kt_h, p0, p1, rate0, rate1 = k[6:12]
+    theta2_8, d2_8, h_d1_8, d3_8, h2_half, h_int, h2_kint = k[12:]
+    # Stick: the oscillator.
+    e0 = fi - force
+    b = kt_over_omega * vi
+    x_st = xi + e0 * cm1_over_kt + vi * sin_over_omega
+    v_st = vi * (1.0 + cos_minus_one) - e0 * sin_over_m_omega
+    f_st = fi + e0 * cos_minus_one + b * sin_t
+    margin = min(mu_s * p0 - abs(fi), mu_s * p1 - abs(f_st))
+    stick_low = margin - mu_s * d2_8 - theta2_8 * (abs(e0) + abs(b))
+    # Slip: the rigid law; its stop function s u̇ at the ends.
+    skm = s * km
+    v_sl = vi + (h * fm - skm * h_int)
+    x_sl = xi + (h * vi + h2_half * fm - skm * h2_kint)
+    q = mu_k * inv_kt_h
+    g_ends = min(s * vi - q * rate0, s * v_sl - q * rate1)
+    slip_low = g_ends - km * h_d1_8 - q * d3_8
+    stick = s == 0.0
+    landing = s * s > 1.5  # flight (mode 2): the touchdown is applied alone
+    flag = (stick & (stick_low <= 0.0)) | ((s != 0.0) & (slip_low <= 0.0)) | landing
+    x1 = x_st if stick else x_sl
+    v1 = v_st if stick else v_sl
+    f1 = f_st if stick else s * mu_k * p1
+    return flag, x1, v1, f1
+
+
+@njit(cache=True, inline="always")
+def flight_step(x, v, fm, h):
+    """(x, ẋ) after a piece of length h [s] in flight: f = 0, m ẍ = F."""
+    return x + (h * v + 0.5 * h * h * fm), v + h * fm
+
+
+@njit(cache=True, error_model="numpy")
+def _vector_pass(lanes, n, a, piece, h_int, h2_kint):
+    """A contact piece for every lane as if it held no switch (:func:`free_piece`),
+    vectorised; a flagged lane keeps its state. Returns the number flagged."""
+    k = piece_constants(a, piece, h_int, h2_kint)
     n_flagged = 0
     for i in range(n):
-        s = lanes[MODE, i]
         xi, vi, fi = lanes[X, i], lanes[V, i], lanes[FS, i]
-        force, fm, km = lanes[FORCE, i], lanes[FM, i], lanes[KM, i]
-        mu_s, mu_k = lanes[MU_S, i], lanes[MU_K, i]
-        # Stick: the oscillator.
-        e0 = fi - force
-        b = kt_over_omega * vi
-        x_st = xi + e0 * cm1_over_kt + vi * sin_over_omega
-        v_st = vi * (1.0 + cos_minus_one) - e0 * sin_over_m_omega
-        f_st = fi + e0 * cos_minus_one + b * sin_t
-        margin = min(mu_s * p0 - abs(fi), mu_s * p1 - abs(f_st))
-        stick_low = margin - mu_s * d2_8 - theta2_8 * (abs(e0) + abs(b))
-        # Slip: the rigid law; its stop function s u̇ at the ends.
-        skm = s * km
-        v_sl = vi + (h * fm - skm * h_int)
-        x_sl = xi + (h * vi + h2_half * fm - skm * h2_kint)
-        q = mu_k * inv_kt_h
-        g_ends = min(s * vi - q * rate0, s * v_sl - q * rate1)
-        slip_low = g_ends - km * h_d1_8 - q * d3_8
-        stick = s == 0.0
-        landing = s * s > 1.5  # flight (mode 2): the touchdown is applied alone
-        flag = (stick & (stick_low <= 0.0)) | ((s != 0.0) & (slip_low <= 0.0)) | landing
+        flag, x1, v1, f1 = free_piece(
+            k, lanes[MODE, i], xi, vi, fi, lanes[FORCE, i], lanes[FM, i], lanes[KM, i],
+            lanes[MU_S, i], lanes[MU_K, i],
+        )  # fmt: skip
         lanes[FLAG, i] = 1.0 if flag else 0.0
-        lanes[X, i] = xi if flag else (x_st if stick else x_sl)
-        lanes[V, i] = vi if flag else (v_st if stick else v_sl)
-        lanes[FS, i] = fi if flag else (f_st if stick else s * mu_k * p1)
+        lanes[X, i] = xi if flag else x1
+        lanes[V, i] = vi if flag else v1
+        lanes[FS, i] = fi if flag else f1
         n_flagged += 1 if flag else 0
     return n_flagged
 
 
 @njit(cache=True, error_model="numpy")
 def _flight_pass(lanes, n, h):
-    """A piece in flight for every lane: f = 0, m ẍ = F."""
-    h2_half = 0.5 * h * h
+    """A piece in flight for every lane (:func:`flight_step`)."""
     for i in range(n):
-        fm = lanes[FM, i]
-        vi = lanes[V, i]
-        lanes[X, i] += h * vi + h2_half * fm
-        lanes[V, i] = vi + h * fm
+        lanes[X, i], lanes[V, i] = flight_step(lanes[X, i], lanes[V, i], lanes[FM, i], h)
 
 
 @njit(cache=True)
@@ -211,25 +230,11 @@ def run_spring_lanes(normal_coeffs, normal_states0, stiffness, group_of_lane, fo
     """
     normal_coeffs = np.ascontiguousarray(normal_coeffs, dtype=np.float64)
     states0 = np.asarray(normal_states0, dtype=np.float64)
-    stiffness = np.asarray(stiffness, dtype=np.float64)
-    group_of_lane = np.asarray(group_of_lane, dtype=np.int64)
-    if np.any(np.diff(group_of_lane) < 0):
-        raise ValueError("group_of_lane must be non-decreasing (lanes by set-up)")
-    if not np.all(stiffness > 0.0):
-        raise ValueError(f"stiffness must be > 0 N/m; got {stiffness.min()!r}")
+    lanes, starts, stiffness = pack_lanes(
+        normal_coeffs, stiffness, group_of_lane, forces, mu_static, mu_kinetic
+    )
     n_groups = normal_coeffs.shape[0]
-    n_lanes = group_of_lane.size
-    counts = np.bincount(group_of_lane, minlength=n_groups)
-    starts = np.concatenate([[0], np.cumsum(counts)]).astype(np.int64)
-    forces = np.asarray(forces, dtype=np.float64)
-    mass = normal_coeffs[group_of_lane, MASS]
-    mu_k = np.asarray(mu_kinetic, dtype=np.float64) * np.ones(n_lanes)
-    lanes = np.zeros((LANE_ROWS, n_lanes))
-    lanes[FORCE] = forces
-    lanes[FM] = forces / mass
-    lanes[KM] = mu_k / mass
-    lanes[MU_S] = mu_static
-    lanes[MU_K] = mu_k
+    n_lanes = lanes.shape[1]
     switches = np.zeros(n_lanes, dtype=np.int64)
     flagged = np.zeros(n_lanes, dtype=np.int64)
     status = np.zeros(n_groups, dtype=np.int64)
@@ -240,3 +245,29 @@ def run_spring_lanes(normal_coeffs, normal_states0, stiffness, group_of_lane, fo
         )  # fmt: skip
     raise_on_failure(status, "spring-lane kernel")
     return lanes[X], lanes[V], lanes[FS], lanes[MODE], switches, flagged
+
+
+def pack_lanes(normal_coeffs, stiffness, group_of_lane, forces, mu_static, mu_kinetic):
+    """(lanes, starts, stiffness): the lane array (rows FORCE ... FLAG) of
+    :func:`run_spring_lanes`'s lanes at rest, ``starts`` (G + 1,) the first lane of each
+    set-up, and the stiffness [N/m] as an array; ValueError for lanes out of set-up
+    order or a stiffness <= 0."""
+    stiffness = np.asarray(stiffness, dtype=np.float64)
+    group_of_lane = np.asarray(group_of_lane, dtype=np.int64)
+    if np.any(np.diff(group_of_lane) < 0):
+        raise ValueError("group_of_lane must be non-decreasing (lanes by set-up)")
+    if not np.all(stiffness > 0.0):
+        raise ValueError(f"stiffness must be > 0 N/m; got {stiffness.min()!r}")
+    n_lanes = group_of_lane.size
+    counts = np.bincount(group_of_lane, minlength=normal_coeffs.shape[0])
+    starts = np.concatenate([[0], np.cumsum(counts)]).astype(np.int64)
+    forces = np.asarray(forces, dtype=np.float64)
+    mass = normal_coeffs[group_of_lane, MASS]
+    mu_k = np.asarray(mu_kinetic, dtype=np.float64) * np.ones(n_lanes)
+    lanes = np.zeros((LANE_ROWS, n_lanes))
+    lanes[FORCE] = forces
+    lanes[FM] = forces / mass
+    lanes[KM] = mu_k / mass
+    lanes[MU_S] = mu_static
+    lanes[MU_K] = mu_k
+    return lanes, starts, stiffness

@@ -91,11 +91,11 @@ def sweep(
         :class:`microslip.budget.WorkLimitError` (:meth:`SweepSpec.check_budget`).
         The estimate is the CPU's, also for ``backend="cuda"``.
     backend : {"cpu", "cuda"}
-        "cuda": the lanes of the shared-normal time kernel (``method="time"``, rigid
-        contact) run on an NVIDIA GPU through numba's CUDA target, the normal tapes on
-        the CPU cores; the result agrees with "cpu" to rounding (the GPU fuses
-        multiply-adds) and is refused in one line where no GPU can be used. Default
-        chunks then hold 2^18 points (a GPU needs many lanes to be busy).
+        "cuda": the lanes of the shared-normal time kernels (``method="time"``, a rigid
+        contact or a TangentialSpring) run on an NVIDIA GPU through numba's CUDA
+        target, the normal tapes on the CPU cores; the result agrees with "cpu" to
+        rounding (the GPU fuses multiply-adds) and is refused in one line where no GPU
+        can be used. Default chunks then hold 2^18 points (a GPU needs many lanes).
 
     Returns
     -------

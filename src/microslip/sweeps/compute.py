@@ -157,7 +157,8 @@ def _shared_run(models, normal0, forces, duration, dt, backend="cpu") -> np.ndar
     model per row of ``normal0``: y [m], ẏ [m/s] at t = 0) under every constant force
     [N], on the shared-normal kernel of the models' tangential contact (all rigid or all
     springs of constant stiffness, a relaxed spring at t = 0); ``backend`` "cuda" runs
-    the rigid lanes on a GPU (:mod:`~microslip.integrators.shared_lanes_cuda`)."""
+    the lanes on a GPU (:mod:`~microslip.integrators.shared_lanes_cuda`,
+    :mod:`~microslip.integrators.spring_lanes_cuda`)."""
     from microslip.integrators.normal_tape import normal_coefficients
     from microslip.integrators.shared_lanes import run_shared
     from microslip.integrators.spring_lanes import run_spring_lanes
@@ -171,8 +172,11 @@ def _shared_run(models, normal0, forces, duration, dt, backend="cpu") -> np.ndar
     mu = np.repeat([model.params.mu for model in models], forces.size)
     if models[0].is_compliant:
         stiffness = [model.tangential.stiffness for model in models]
-        x = run_spring_lanes(coeffs, normal0, stiffness, groups, lane_forces, mu, mu, duration,
-                             dt)[0]  # fmt: skip
+        if backend == "cuda":
+            from microslip.integrators.spring_lanes_cuda import run_spring_lanes_cuda as run
+        else:
+            run = run_spring_lanes
+        x = run(coeffs, normal0, stiffness, groups, lane_forces, mu, mu, duration, dt)[0]
     elif backend == "cuda":
         from microslip.integrators.shared_lanes_cuda import run_shared_cuda
 

@@ -68,10 +68,11 @@ def _checked_backend(backend: Any, model: Model, method: str) -> str:
     if method != "time":
         raise ValueError("backend='cuda' runs method='time' only; 'steady' runs on the CPU")
     kernel = time_kernel(model)
-    if kernel != "shared":
+    if kernel == "batched":
         raise ValueError(
-            f"backend='cuda' runs the shared-normal time kernel (a rigid tangential contact); "
-            f"a {type(model.tangential).__name__} runs on the CPU ({kernel!r} kernel)"
+            "backend='cuda' runs the shared-normal time kernels (a rigid contact or a "
+            f"TangentialSpring); a {type(model.tangential).__name__} runs on the CPU "
+            f"({kernel!r} kernel)"
         )
     from microslip.integrators.shared_lanes_cuda import cuda_unavailable
 
@@ -137,8 +138,9 @@ class SweepSpec:
     duration : simulated time per point for "time" [s]
     dt : RK4 step for "time" [s]; None means T0/200 of each parameter set
     amplitude_chunk : amplitudes per chunk
-    backend : "cpu" or "cuda" (the shared-normal time kernel's lanes on a GPU:
-        :mod:`microslip.integrators.shared_lanes_cuda`)
+    backend : "cpu" or "cuda" (the shared-normal time kernels' lanes on a GPU:
+        :mod:`microslip.integrators.shared_lanes_cuda`,
+        :mod:`microslip.integrators.spring_lanes_cuda`)
     """
 
     base: Model
@@ -188,9 +190,9 @@ class SweepSpec:
         ``allow_large``; with ``allow_large`` False the full check of
         :meth:`check_budget` is made here too (None: left to :meth:`check_budget`).
 
-        ``backend="cuda"`` runs the lanes of the shared-normal time kernel on a GPU
-        (method "time", rigid tangential contact; refused otherwise, and where no GPU
-        can be used, with the reason).
+        ``backend="cuda"`` runs the lanes of the shared-normal time kernels on a GPU
+        (method "time", a rigid contact or a TangentialSpring; refused otherwise, and
+        where no GPU can be used, with the reason).
         """
         model = as_model(model_or_params)
         method = check.one_of("method", method, METHODS)
