@@ -178,11 +178,34 @@ def run_blocks(kernel, normal_coeffs, normal_states0, n_lanes, t_end, dt, tape_r
     return np.where(status > 1, status, OK)
 
 
-def raise_on_stalled(stalled, lane_group, n_groups, kernel):
-    """RuntimeError naming the first set-up with a lane that stalled (``stalled`` != 0)."""
+def run_lanes(kernel, name, normal_coeffs, normal_states0, lanes, lane_group, t_end, dt,
+              tape_rows, before=(), after=()):  # fmt: skip
+    """Run ``kernel`` over every block of tapes (:func:`run_blocks`) on ``lanes`` (rows x
+    lanes, a column per lane, ``lane_group`` its set-up) and return (lanes, switches,
+    flagged) from the GPU. The kernel takes (tapes, rows, lane_group, *before, lanes,
+    *after, switches, flagged, stalled), ``before`` and ``after`` host arrays that go to
+    the GPU with it. RuntimeError naming ``name`` and the set-up if a normal
+    integration failed or a lane stalled."""
+    n_groups, n_lanes = normal_coeffs.shape[0], lanes.shape[1]
+    stream = cuda.stream()
+    d_lanes = cuda.to_device(lanes, stream=stream)
+    counts = [cuda.to_device(np.zeros(n_lanes, dtype=np.int64), stream=stream) for _ in range(3)]
+    status = run_blocks(
+        kernel, normal_coeffs, normal_states0, n_lanes, t_end, dt, tape_rows, stream,
+        (
+            cuda.to_device(lane_group, stream=stream),
+            *(cuda.to_device(a, stream=stream) for a in before), d_lanes,
+            *(cuda.to_device(a, stream=stream) for a in after), *counts,
+        ),
+    )  # fmt: skip
+    lanes = d_lanes.copy_to_host(stream=stream)
+    switches, flagged, stalled = (d.copy_to_host(stream=stream) for d in counts)
+    stream.synchronize()
+    raise_on_failure(status, name)
     group_status = np.full(n_groups, OK, dtype=np.int64)
     group_status[lane_group[stalled != 0]] = LANE_STALLED
-    raise_on_failure(group_status, kernel)
+    raise_on_failure(group_status, name)
+    return lanes, switches, flagged
 
 
 def run_shared_cuda(normal_coeffs, normal_states0, group_of_lane, forces, mu_static,
@@ -201,31 +224,16 @@ def run_shared_cuda(normal_coeffs, normal_states0, group_of_lane, forces, mu_sta
     lanes, order, starts = pack_lanes(
         normal_coeffs, group_of_lane, forces, mu_static, mu_kinetic, x0, v0
     )
-    n_lanes = order.size
-    switches = np.zeros(n_lanes, dtype=np.int64)
-    flagged = np.zeros(n_lanes, dtype=np.int64)
-    if n_lanes == 0:
-        return unpack_lanes(lanes, order, switches, flagged)
+    if order.size == 0:
+        none = np.zeros(0, dtype=np.int64)
+        return unpack_lanes(lanes, order, none, none)
     for g in range(n_groups):
         y0, ydot0 = normal_states0[g, 0], normal_states0[g, 1]
         n0 = normal_force(0.0, y0, ydot0, normal_coeffs[g])
         start_modes(lanes, starts[g], starts[g + 1], n0)
     lane_group = np.repeat(np.arange(n_groups), np.diff(starts))
-    stream = cuda.stream()
-    d_lanes = cuda.to_device(lanes, stream=stream)
-    d_switches = cuda.to_device(switches, stream=stream)
-    d_flagged = cuda.to_device(flagged, stream=stream)
-    d_stalled = cuda.to_device(np.zeros(n_lanes, dtype=np.int64), stream=stream)
-    d_group = cuda.to_device(lane_group, stream=stream)
-    status = run_blocks(
-        _kernel(), normal_coeffs, normal_states0, n_lanes, t_end, dt, tape_rows, stream,
-        (d_group, d_lanes, d_switches, d_flagged, d_stalled),
+    lanes, switches, flagged = run_lanes(
+        _kernel(), "shared-normal kernel (CUDA)", normal_coeffs, normal_states0, lanes,
+        lane_group, t_end, dt, tape_rows,
     )  # fmt: skip
-    stalled = d_stalled.copy_to_host(stream=stream)
-    lanes = d_lanes.copy_to_host(stream=stream)
-    switches = d_switches.copy_to_host(stream=stream)
-    flagged = d_flagged.copy_to_host(stream=stream)
-    stream.synchronize()
-    raise_on_failure(status, "shared-normal kernel (CUDA)")
-    raise_on_stalled(stalled, lane_group, n_groups, "shared-normal kernel (CUDA)")
     return unpack_lanes(lanes, order, switches, flagged)

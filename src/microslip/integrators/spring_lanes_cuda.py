@@ -24,13 +24,7 @@ from numba import float64
 
 from microslip import _jit_cache  # noqa: F401  (registers the cache before any @njit)
 from microslip.integrators import normal_tape as nt
-from microslip.integrators.shared_lanes import raise_on_failure
-from microslip.integrators.shared_lanes_cuda import (
-    cuda,
-    cuda_unavailable,
-    raise_on_stalled,
-    run_blocks,
-)
+from microslip.integrators.shared_lanes_cuda import cuda, cuda_unavailable, run_lanes
 from microslip.integrators.spring_lane_law import (
     FLIGHT,
     P_D0,
@@ -139,12 +133,10 @@ def run_spring_lanes_cuda(normal_coeffs, normal_states0, stiffness, group_of_lan
     lanes, starts, stiffness = pack_lanes(
         normal_coeffs, stiffness, group_of_lane, forces, mu_static, mu_kinetic
     )
-    n_groups = normal_coeffs.shape[0]
-    n_lanes = lanes.shape[1]
-    switches = np.zeros(n_lanes, dtype=np.int64)
-    flagged = np.zeros(n_lanes, dtype=np.int64)
+    n_groups, n_lanes = normal_coeffs.shape[0], lanes.shape[1]
     if n_lanes == 0:
-        return lanes[X], lanes[V], lanes[FS], lanes[MODE], switches, flagged
+        none = np.zeros(0, dtype=np.int64)
+        return lanes[X], lanes[V], lanes[FS], lanes[MODE], none, none
     setups = np.empty((n_groups, 4))
     flying = np.zeros(n_lanes, dtype=np.int64)
     for g in range(n_groups):
@@ -156,23 +148,8 @@ def run_spring_lanes_cuda(normal_coeffs, normal_states0, stiffness, group_of_lan
             lanes[MODE, starts[g] : starts[g + 1]] = FLIGHT
             flying[starts[g] : starts[g + 1]] = 1
     lane_group = np.repeat(np.arange(n_groups), np.diff(starts))
-    stream = cuda.stream()
-    d_lanes = cuda.to_device(lanes, stream=stream)
-    d_flying = cuda.to_device(flying, stream=stream)
-    d_switches = cuda.to_device(switches, stream=stream)
-    d_flagged = cuda.to_device(flagged, stream=stream)
-    d_stalled = cuda.to_device(np.zeros(n_lanes, dtype=np.int64), stream=stream)
-    d_group = cuda.to_device(lane_group, stream=stream)
-    d_setups = cuda.to_device(setups, stream=stream)
-    status = run_blocks(
-        _kernel(), normal_coeffs, states0, n_lanes, t_end, dt, tape_rows, stream,
-        (d_group, d_setups, d_lanes, d_flying, d_switches, d_flagged, d_stalled),
+    lanes, switches, flagged = run_lanes(
+        _kernel(), "spring-lane kernel (CUDA)", normal_coeffs, states0, lanes, lane_group,
+        t_end, dt, tape_rows, before=(setups,), after=(flying,),
     )  # fmt: skip
-    stalled = d_stalled.copy_to_host(stream=stream)
-    lanes = d_lanes.copy_to_host(stream=stream)
-    switches = d_switches.copy_to_host(stream=stream)
-    flagged = d_flagged.copy_to_host(stream=stream)
-    stream.synchronize()
-    raise_on_failure(status, "spring-lane kernel (CUDA)")
-    raise_on_stalled(stalled, lane_group, n_groups, "spring-lane kernel (CUDA)")
     return lanes[X], lanes[V], lanes[FS], lanes[MODE], switches, flagged
