@@ -151,8 +151,9 @@ def _first_exit(kind, a, p, bound2, bound3, noise, lo, hi):
     simple root the steps are Newton's from the inside (quadratic). Both the test and
     the steps take g as g + noise: a dip below zero no deeper than the rounding is not a
     crossing, and a tangency within the rounding (a stick whose force returns exactly to
-    the limit, as at constant N) is passed, not taken for a release (40-150 steps there:
-    the approach halves its distance per step until the second-order proof holds). A
+    the limit, as at constant N) is passed, not taken for a release (some constant-N
+    lanes of the bench map need 40-150 steps there). A crossing is found once g is
+    below -noise, about one evaluation later than below 0. A
     search that starts on its boundary (a stick at f = μ_k N = μ_s N after a stop) then
     starts inside however its terms were rounded: with multiply-adds fused (a GPU) the
     margin μ_s P - μ_k P there is a rounding error of either sign, not 0."""
