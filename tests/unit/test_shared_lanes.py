@@ -9,7 +9,7 @@ import pytest
 
 import microslip as ms
 from microslip.integrators import normal_tape as nt
-from microslip.integrators import shared_lanes as sl
+from microslip.integrators import rigid_lane_law as law
 from microslip.integrators.shared_lanes import run_shared
 from microslip.simulation import initial_state_from_amplitude
 
@@ -55,10 +55,10 @@ def test_release_is_the_first_point_strictly_below_the_level_where_p_is_flat(slo
     a = (1.0, -slope, 0.0, 0.0, 0.0)  # P = 1 - slope τ [N]
     level = 1.0 - 0.37 * slope  # P crosses it near τ = 0.37
     crit = (0, 0.0, 0.0, 0.0)
-    tau = sl._first_below(a, crit, 0.0, level)
+    tau = law._first_below(a, crit, 0.0, level)
     assert nt.poly(a, tau) < level
     # Just before it, P is not below the level (within the tolerance).
-    assert nt.poly(a, tau - 2.0 * sl._TAU_TOLERANCE) >= level
+    assert nt.poly(a, tau - 2.0 * law._TAU_TOLERANCE) >= level
     assert tau == pytest.approx(0.37, abs=1e-16 / slope + 1e-12)
 
 

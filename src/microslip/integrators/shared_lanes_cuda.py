@@ -5,7 +5,7 @@ split where it is cheapest: the normal tapes, one per set-up and shared by all i
 lanes, are filled on the CPU cores (:func:`~microslip.integrators.normal_tape.fill_tape`
 in parallel over the set-ups), a block of ``tape_rows`` pieces at a time; each block
 goes to the GPU, where one thread per lane runs through its set-up's pieces with the
-lane law of :mod:`~microslip.integrators.shared_lanes` itself (:func:`free_piece` for
+lane law of :mod:`~microslip.integrators.rigid_lane_law` itself (:func:`free_piece` for
 a piece without a switch, :func:`lane_piece` through the switches), compiled for the
 GPU from the same functions. While a block is copied and run, the CPU fills the next.
 The lane states stay on the GPU between blocks, so memory is bounded by two blocks of
@@ -30,6 +30,7 @@ from numba import njit, prange
 
 from microslip import _jit_cache  # noqa: F401  (registers the cache before any @njit)
 from microslip.integrators import normal_tape as nt
+from microslip.integrators.rigid_lane_law import free_piece, lane_piece
 from microslip.integrators.shared_lanes import (
     DIRECTION,
     FM,
@@ -41,8 +42,6 @@ from microslip.integrators.shared_lanes import (
     OK,
     V,
     X,
-    free_piece,
-    lane_piece,
     pack_lanes,
     raise_on_failure,
     start_modes,

@@ -17,7 +17,7 @@ Each has a closed form over a piece. Stick is the harmonic oscillator of e = f -
     f = f_a + e_a (cos d - 1) + (k_t ẋ_a/ω) sin d,   ẋ = ẋ_a cos d - e_a/(m ω) sin d,
     x = x_a + (e_a/k_t)(cos d - 1) + (ẋ_a/ω) sin d;
 
-slip is the rigid formula on the tape's integrals (:func:`shared_lanes.slip_speed`);
+slip is the rigid formula on the tape's integrals (:func:`rigid_lane_law.slip_speed`);
 flight is uniform acceleration. The switches are those of :mod:`microslip.model.switches`:
 a release at |f| = μ_s N (the spring force drops to μ_k N; the point slides unless
 s u̇ <= 0 there), a stop at s u̇ = 0 (stick with f = s μ_k N), a loss of contact (the
@@ -45,13 +45,13 @@ from numba import njit
 from microslip import _jit_cache  # noqa: F401  (registers the cache before any @njit)
 from microslip.integrators import normal_tape as nt
 from microslip.integrators.kernel import MAX_SWITCHES_PER_STEP
-from microslip.integrators.shared_lanes import slip_position
-from microslip.integrators.shared_lanes import slip_speed as _slip_speed
+from microslip.integrators.rigid_lane_law import slip_position
+from microslip.integrators.rigid_lane_law import slip_speed as _slip_speed
 from microslip.model.switches import GRAZING
 from microslip.model.system import sign
 
 FLIGHT = 2.0  # the mode of a lane out of contact (system.FLIGHT: a relaxed spring)
-_TAU_TOLERANCE = 1e-12  # of a piece, as in shared_lanes
+_TAU_TOLERANCE = 1e-12  # of a piece, as in rigid_lane_law
 _STICK, _SLIP = 0, 1  # the switching function sought: the stick margin or s u̇
 _MAX_STEPS = 2000  # of one search: a simple root takes ~5
 _ROUNDING = 1e-15  # relative rounding of a switching function (a few ulps of its terms)
