@@ -105,6 +105,19 @@ def free_piece(k, s, xi, vi, fi, force, fm, km, mu_s, mu_k):
     return flag, x1, v1, f1
 
 
+@njit(cache=True)
+def starts_in_flight(c, y0, ydot0):
+    """True when a set-up starts out of contact (N = 0 at t = 0): its lanes, at rest on a
+    relaxed spring, start in flight; otherwise they stick."""
+    return normal_force(0.0, y0, ydot0, c) <= 0.0
+
+
+@njit(cache=True, inline="always")
+def flight_piece(a):
+    """True for a tape piece in flight: its quartic P is 0 throughout."""
+    return a[0] == 0.0 and a[1] == 0.0 and a[2] == 0.0 and a[3] == 0.0 and a[4] == 0.0
+
+
 @njit(cache=True, inline="always")
 def flight_step(x, v, fm, h):
     """(x, ẋ) after a piece of length h [s] in flight: f = 0, m ẍ = F."""
@@ -146,8 +159,7 @@ def _run_group(c, y0, ydot0, k_t, t_end, dt, lanes, switches, flagged):
     omega = math.sqrt(k_t / mass)
     piece = np.empty(PIECE)
     piece[P_OMEGA], piece[P_KT], piece[P_MASS], piece[P_GRAVITY] = omega, k_t, mass, c[GRAVITY]
-    # A lane at rest on a relaxed spring sticks in contact, flies out of it.
-    flying = normal_force(0.0, y0, ydot0, c) <= 0.0
+    flying = starts_in_flight(c, y0, ydot0)
     for i in range(n):
         lanes[MODE, i] = FLIGHT if flying else 0.0
     carry, tape, work = nt.tape_buffers(y0, ydot0)
@@ -158,9 +170,7 @@ def _run_group(c, y0, ydot0, k_t, t_end, dt, lanes, switches, flagged):
         for r in range(rows):
             h = tape[r, nt.H]
             a = nt.coefficients(tape, r)
-            in_flight = a[0] == 0.0 and a[1] == 0.0 and a[2] == 0.0 and a[3] == 0.0
-            in_flight = in_flight and a[4] == 0.0
-            if in_flight:
+            if flight_piece(a):
                 if not flying:  # lift-off: the spring relaxes (f = 0, u = x)
                     for i in range(n):
                         lanes[MODE, i], lanes[FS, i] = FLIGHT, 0.0

@@ -51,13 +51,14 @@ from microslip.integrators.spring_lanes import (
     MU_S,
     V,
     X,
+    flight_piece,
     flight_step,
     free_piece,
     pack_lanes,
     piece_constants,
+    starts_in_flight,
 )
 from microslip.model.coefficients import GRAVITY, MASS
-from microslip.model.normal import normal_force
 
 # Columns of the per-set-up constants.
 S_OMEGA, S_KT, S_MASS, S_GRAVITY = range(4)
@@ -91,7 +92,7 @@ def _kernel():
                 tapes[g, r, nt.A0], tapes[g, r, nt.A1], tapes[g, r, nt.A2], tapes[g, r, nt.A3],
                 tapes[g, r, nt.A4],
             )  # fmt: skip
-            if a[0] == 0.0 and a[1] == 0.0 and a[2] == 0.0 and a[3] == 0.0 and a[4] == 0.0:
+            if flight_piece(a):
                 if not in_air:  # lift-off: the spring relaxes (f = 0, u = x)
                     mode, f = FLIGHT, 0.0
                 in_air = True
@@ -143,8 +144,7 @@ def run_spring_lanes_cuda(normal_coeffs, normal_states0, stiffness, group_of_lan
         c = normal_coeffs[g]
         mass = c[MASS]
         setups[g] = math.sqrt(stiffness[g] / mass), stiffness[g], mass, c[GRAVITY]
-        # A lane at rest on a relaxed spring sticks in contact, flies out of it.
-        if normal_force(0.0, states0[g, 0], states0[g, 1], c) <= 0.0:
+        if starts_in_flight(c, states0[g, 0], states0[g, 1]):
             lanes[MODE, starts[g] : starts[g + 1]] = FLIGHT
             flying[starts[g] : starts[g + 1]] = 1
     lane_group = np.repeat(np.arange(n_groups), np.diff(starts))
