@@ -85,6 +85,18 @@ def test_static_kinetic_and_stribeck_rigid_give_their_sliding_coefficient():
         assert simpson(along, x=t) / simpson(run.N, x=t) == pytest.approx(expected, rel=1e-13)
 
 
+def test_a_stribeck_curve_is_mu_of_each_drive_speed():
+    """Over a curve of drive speeds each point is μ(|v|) of its own speed (the velocity
+    axis is evaluated in one compiled loop: a shifted or shared index would fail)."""
+    stribeck = ms.Stribeck(mu_static=0.3, mu_kinetic=0.1, velocity=2e-4, exponent=1.5)
+    model = ms.Model(P, friction=stribeck, drive=ms.PrescribedVelocity(1e-4))
+    speeds = np.array([-8e-4, -1e-4, 5e-5, 2e-4, 3e-3])
+    curve = ms.effective_friction_curve(model, speeds, amplitude=1.5 * Y0)
+    expected = 0.1 + 0.2 * np.exp(-((np.abs(speeds) / 2e-4) ** 1.5))
+    np.testing.assert_allclose(curve.mu_eff.values, expected, rtol=1e-15)
+    np.testing.assert_array_equal(curve.mu_kinetic.values, curve.mu_eff.values)
+
+
 def test_identity6_fails_for_a_compliant_contact():
     """The identity needs the rigid contact: the same free vibration with a finite k_t
     reduces friction (so the checks above can tell the two apart)."""

@@ -51,7 +51,12 @@ from microslip.model.capabilities import require
 from microslip.model.coefficients import MU, MU_STATIC, TANGENTIAL_STIFFNESS
 from microslip.model.composition import Model
 from microslip.model.drive import ConstantForce, HarmonicDrive, PrescribedVelocity, SpringDrive
-from microslip.model.friction import StaticKinetic, Stribeck, kinetic_coefficient
+from microslip.model.friction import (
+    StaticKinetic,
+    Stribeck,
+    kinetic_coefficient,
+    kinetic_coefficients,
+)
 from microslip.model.tangential import MindlinSpring, TangentialSpring
 
 __all__ = [
@@ -210,7 +215,7 @@ def _exact_points(model: Model, cycle: NormalCycle, speeds: np.ndarray) -> dict[
     """The exact steady state at each drive speed [m/s] on the shared normal ``cycle``."""
     c = model.pack()
     speeds = np.ascontiguousarray(np.abs(speeds))
-    mu_k = np.array([kinetic_coefficient(s, c) for s in speeds])
+    mu_k = kinetic_coefficients(speeds, c)
     mean_n = np.full(speeds.size, cycle.mean_normal_force)
     zeros = np.zeros(speeds.size)
     if not model.is_compliant or cycle.pieces is None:  # sliding at v throughout (identity 6)

@@ -42,6 +42,7 @@ __all__ = [
     "friction_limit",
     "friction_limit_rate",
     "kinetic_coefficient",
+    "kinetic_coefficients",
 ]
 
 COULOMB = 0.0
@@ -151,6 +152,16 @@ def kinetic_coefficient(speed: float, c: np.ndarray) -> float:
         ratio = abs(speed) / c[STRIBECK_VELOCITY]
         return c[MU] + (c[MU_STATIC] - c[MU]) * math.exp(-(ratio ** c[STRIBECK_EXPONENT]))
     return c[MU]
+
+
+@njit(cache=True)
+def kinetic_coefficients(speeds: np.ndarray, c: np.ndarray) -> np.ndarray:
+    """μ [-] at each sliding speed of ``speeds`` [m/s] (:func:`kinetic_coefficient` in a
+    compiled loop: a map's velocity axis costs one call, not one per speed)."""
+    out = np.empty(speeds.shape[0])
+    for i in range(speeds.shape[0]):
+        out[i] = kinetic_coefficient(speeds[i], c)
+    return out
 
 
 def friction_force(direction: np.ndarray, limit: np.ndarray, drive: np.ndarray) -> np.ndarray:
