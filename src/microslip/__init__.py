@@ -46,7 +46,7 @@ _EXPORTS = {
     "effective_friction": "microslip.analysis.effective_friction",
     "effective_friction_curve": "microslip.analysis.effective_friction",
     "effective_friction_map": "microslip.analysis.effective_friction",
-    "flat_punch_reduction": "microslip.analysis.effective_friction",
+    "flat_punch_reduction": "microslip.analysis.flat_punch",
     "DriveCycle": "microslip.analysis.spring_stick_slip",
     "constant_normal_cycle": "microslip.analysis.spring_stick_slip",
     "stick_slip_drive": "microslip.analysis.spring_stick_slip",

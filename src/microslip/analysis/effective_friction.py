@@ -27,7 +27,8 @@ coefficient of a map).
   until the tangential state at the period start repeats.
 
 Time average (``method="time_average"``, picked by ``"auto"`` for the rest: force
-drives, a forced response that is not period-1): ``simulate(method="event")`` after a
+drives, a forced response that is not period-1;
+:mod:`microslip.analysis.friction_time_average`): ``simulate(method="event")`` after a
 transient, μ_eff = ∫F_t dt / ∫N dt over a window, each integral a Gauss–Legendre sum on
 the pieces between the recorded switching instants (exact to the integration tolerance
 where the response is smooth); the error estimate is the standard error of the ratio
@@ -46,6 +47,7 @@ import xarray as xr
 from microslip import validation as check
 from microslip.analysis import contact_point as cp
 from microslip.analysis import normal_period
+from microslip.analysis.friction_time_average import time_average
 from microslip.analysis.normal_period import NormalCycle
 from microslip.model.capabilities import require
 from microslip.model.coefficients import MU, MU_STATIC, TANGENTIAL_STIFFNESS
@@ -54,7 +56,6 @@ from microslip.model.drive import ConstantForce, HarmonicDrive, PrescribedVeloci
 from microslip.model.friction import (
     StaticKinetic,
     Stribeck,
-    kinetic_coefficient,
     kinetic_coefficients,
 )
 from microslip.model.tangential import MindlinSpring, TangentialSpring
@@ -64,7 +65,6 @@ __all__ = [
     "effective_friction",
     "effective_friction_curve",
     "effective_friction_map",
-    "flat_punch_reduction",
 ]
 
 METHODS = ("auto", "exact", "time_average")
@@ -126,50 +126,6 @@ class EffectiveFriction:
     period: float
     method: str
     error: float
-
-
-def flat_punch_reduction(v_tilde: Any) -> np.ndarray:
-    """D(ṽ) [-] of the flat punch: μ_eff/μ = 1 - β D(ṽ) (docs/theory/friction_reduction.md).
-
-    m2 = 1, prescribed penetration N = N0 (1 + β cos ωt) with β <= 1, Coulomb friction,
-    constant k_t, kinematic drive, ṽ = k_t |v| / (μ β N0 ω). With θ = ωt the contact
-    point sticks from θ1 = π + arcsin ṽ to the first θ2 > θ1 with
-    cos θ1 + ṽ (θ2 - θ1) = cos θ2, and
-    D = [sin θ2 - sin θ1 - (θ2 - θ1) cos θ1 - ṽ (θ2 - θ1)²/2] / (2π); D(0) = 1, D = 0 for
-    ṽ >= 1.
-
-    Parameters
-    ----------
-    v_tilde : float or array
-        ṽ >= 0 [-].
-
-    Returns
-    -------
-    ndarray
-        D(ṽ) [-], the shape of ``v_tilde``.
-    """
-    from scipy.optimize import brentq
-
-    values = np.asarray(v_tilde, dtype=float)
-    if np.any(~np.isfinite(values)) or np.any(values < 0.0):
-        raise ValueError(f"v_tilde must be finite and >= 0, got {v_tilde!r}")
-    out = np.zeros(values.shape)
-    for index, vt in np.ndenumerate(values):
-        if vt >= 1.0:
-            continue
-        theta1 = math.pi + math.asin(vt)
-        c1 = math.cos(theta1)
-
-        def gap(theta: float, vt: float = vt, theta1: float = theta1, c1: float = c1) -> float:
-            return c1 + vt * (theta - theta1) - math.cos(theta)
-
-        # gap is tangent to 0 at θ1 and falls to its minimum at 2π - arcsin ṽ first
-        theta2 = brentq(gap, 2.0 * math.pi - math.asin(vt), theta1 + 2.0 * math.pi, xtol=1e-15)
-        span = theta2 - theta1
-        out[index] = (math.sin(theta2) - math.sin(theta1) - span * c1 - 0.5 * vt * span * span) / (
-            2.0 * math.pi
-        )
-    return out
 
 
 # -- points ----------------------------------------------------------------------------------
@@ -267,11 +223,11 @@ def _points(model, speeds, amplitude, method, cache, options, transients=None):
         if cycle is not None:
             return _exact_points(model, cycle, speeds), {"exact"}, cycle.period
     rows = [
-        _time_average(model.replace(**{"drive.velocity": float(v)}), amplitude, **options)
+        time_average(model.replace(**{"drive.velocity": float(v)}), amplitude, **options)
         for v in speeds
     ]
-    fields = {name: np.array([getattr(r, name) for r in rows]) for name in _FIELDS}
-    return fields, {"time_average"}, rows[0].period
+    fields = {name: np.array([r[name] for r in rows]) for name in _FIELDS}
+    return fields, {"time_average"}, rows[0]["period"]
 
 
 def effective_friction(
@@ -316,103 +272,16 @@ def effective_friction(
     """
     _check(model, method)
     if method == "time_average" or not model.is_kinematic:
-        return _time_average(model, amplitude, rtol=rtol, transient=transient, window=window,
-                             blocks=blocks)  # fmt: skip
+        fields = time_average(
+            model, amplitude, rtol=rtol, transient=transient, window=window, blocks=blocks
+        )
+        return EffectiveFriction(**fields, method="time_average")
     options = dict(rtol=rtol, transient=transient, window=window, blocks=blocks)
     speeds = _speeds(model, [model.drive.velocity])
     fields, methods, period = _points(model, speeds, amplitude, method, {}, options)
     return EffectiveFriction(
         **{name: float(values[0]) for name, values in fields.items()},
         period=float(period), method=methods.pop(),
-    )  # fmt: skip
-
-
-# -- time average ----------------------------------------------------------------------------
-def _drive_sign(model: Model) -> float:
-    """+1 or -1: the sign of v, F, F0 or v_d of the drive (+1 where it is 0)."""
-    field = {ConstantForce: "force", HarmonicDrive: "mean"}.get(type(model.drive), "velocity")
-    return -1.0 if getattr(model.drive, field) < 0.0 else 1.0
-
-
-def _reference_period(model: Model, amplitude: float | None) -> float:
-    from microslip.analysis.free_vibration import free_period
-
-    params = model.params
-    if model.excitation is not None:
-        period = model.excitation.period
-    elif model.damping is None and amplitude:
-        period = free_period(params, amplitude)
-    else:
-        period = params.natural_period
-    if isinstance(model.drive, HarmonicDrive):
-        period = max(period, 1.0 / model.drive.frequency)
-    return period
-
-
-def _time_average(
-    model: Model,
-    amplitude: float | None,
-    *,
-    rtol: float,
-    transient: float | None,
-    window: float | None,
-    blocks: int,
-) -> EffectiveFriction:
-    """μ_eff from ``simulate(method="event")``: module docstring."""
-    from microslip.simulation import simulate
-
-    blocks = check.positive_int("blocks", blocks)
-    if blocks < 2:
-        raise ValueError(f"blocks must be >= 2 (the error estimate), got {blocks!r}")
-    kwargs: dict[str, Any] = {}
-    if model.excitation is None:
-        if amplitude is None:
-            raise ValueError("give amplitude=A [m] of the free normal vibration")
-        kwargs["amplitude"] = check.amplitude(model.params, amplitude)
-    elif amplitude is not None:
-        raise ValueError(
-            f"amplitude={amplitude!r} applies to the free vibration only; the excitation "
-            f"{type(model.excitation).__name__} sets the normal motion"
-        )
-    period = _reference_period(model, amplitude)
-    transient = (
-        64.0 * period if transient is None else check.real("transient", transient, minimum=0.0)
-    )
-    window = (
-        64.0 * period if window is None else check.real("window", window, minimum=0.0, strict=True)
-    )
-    end = transient + window
-    first = simulate(model, duration=end, method="event", rtol=rtol, **kwargs)
-    # Gauss–Legendre pieces: the block edges, 16 pieces per period, every switching instant
-    pieces_per_block = max(1, math.ceil(16.0 * window / (blocks * period)))
-    edges = np.linspace(transient, end, blocks * pieces_per_block + 1)
-    events = first.event_t[(first.event_t > transient) & (first.event_t < end)]
-    cuts = np.unique(np.concatenate([edges, events]))
-    block = np.minimum(np.searchsorted(edges[::pieces_per_block], cuts[:-1], side="right") - 1,
-                       blocks - 1)  # fmt: skip
-    half = 0.5 * np.diff(cuts)
-    nodes = (0.5 * (cuts[:-1] + cuts[1:]))[:, None] + half[:, None] * cp.GAUSS_NODES[None, :]
-    weights = half[:, None] * cp.GAUSS_WEIGHTS[None, :]
-    run = simulate(model, duration=end, method="event", rtol=rtol, t_eval=nodes.ravel(), **kwargs)
-    shape = nodes.shape
-    force = (-_drive_sign(model) * run.Ft).reshape(shape)
-    normal = run.N.reshape(shape)
-    stuck = ((run.direction == 0) & (run.N > 0)).reshape(shape)
-    f_block = np.bincount(block, (weights * force).sum(axis=1), minlength=blocks)
-    n_block = np.bincount(block, (weights * normal).sum(axis=1), minlength=blocks)
-    mean_f, mean_n = f_block.sum() / window, n_block.sum() / window
-    mu_eff = mean_f / mean_n
-    c = model.pack()
-    speed = abs(model.drive.velocity) if model.is_kinematic else math.inf
-    mu_k = float(kinetic_coefficient(speed, c))
-    # standard error of the ratio estimator ΣF/ΣN over the blocks (a block may lack contact)
-    spread = np.std(f_block - mu_eff * n_block, ddof=1) / (math.sqrt(blocks) * n_block.mean())
-    return EffectiveFriction(
-        mu_eff=float(mu_eff), mu_kinetic=mu_k, ratio=float(mu_eff / mu_k), v_tilde=math.nan,
-        mean_friction_force=float(mean_f), mean_normal_force=float(mean_n),
-        stick_fraction=float((weights * stuck).sum() / window) if model.is_compliant else 0.0,
-        period=float(period), method="time_average",
-        error=float(spread / abs(mu_eff)) if mu_eff else math.inf,
     )  # fmt: skip
 
 

@@ -16,7 +16,7 @@ prescribed penetration δ = δ_m + Δ cos ωt with δ_m = y0 (N0 = m g, β = Δ/
 a tangential spring k_t = K_n and a prescribed velocity v. Then
 ṽ = k_t v/(μ max|dN/dt|) = v / v_c, v_c = μ m g β ω / k_t, and for β <= 1
 μ_eff/μ = 1 − β D(ṽ), D of
-:func:`~microslip.analysis.effective_friction.flat_punch_reduction`.
+:func:`~microslip.analysis.flat_punch.flat_punch_reduction`.
 
 Fast settings (each figure a few seconds once the kernels are compiled): the master
 curve has 43 values of ṽ (40 up to 1, three past it) for β = 0.25, 0.5, 0.75, 0.9 and,
@@ -228,10 +228,8 @@ def _title(ds: xr.Dataset, text: str) -> str:
 def master_curve_figure(params: Parameters) -> tuple[Figure, xr.Dataset]:
     """(1 − μ_eff/μ)/β against ṽ for the flat punch: β <= 1 collapse onto D(ṽ) (drawn as
     a line), β > 1 (loss of contact) do not."""
-    from microslip.analysis.effective_friction import (
-        effective_friction_curve,
-        flat_punch_reduction,
-    )
+    from microslip.analysis.effective_friction import effective_friction_curve
+    from microslip.analysis.flat_punch import flat_punch_reduction
 
     require_friction(params, "friction_master_curve")
     betas = np.array(MASTER_BETAS + MASTER_LOSS_BETAS)
