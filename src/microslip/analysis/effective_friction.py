@@ -49,6 +49,7 @@ from microslip.analysis import contact_point as cp
 from microslip.analysis import normal_period
 from microslip.analysis.friction_time_average import time_average
 from microslip.analysis.normal_period import NormalCycle
+from microslip.analysis.normal_pieces import CLOSED_FORM, TABLE
 from microslip.model.capabilities import require
 from microslip.model.coefficients import MU, MU_STATIC, TANGENTIAL_STIFFNESS
 from microslip.model.composition import Model
@@ -72,7 +73,7 @@ MAX_PERIODS = 1000  # normal periods the period map may take to reach its cycle
 # Tolerance of the exact path (root finding to round-off, 8-point Gauss–Legendre on
 # pieces of at most T/32 and graded towards contact switches): relative, closed-form N;
 # a tabulated orbit adds the error of its interpolation (free: ~1e-13, forced: ~1e-11).
-EXACT_ERROR = {cp.CLOSED_FORM: 1e-12, cp.TABLE: 1e-10}
+EXACT_ERROR = {CLOSED_FORM: 1e-12, TABLE: 1e-10}
 
 
 @dataclass(frozen=True)

@@ -19,7 +19,7 @@ from typing import Any
 import numpy as np
 
 from microslip import validation as check
-from microslip.analysis import contact_point as cp
+from microslip.analysis.normal_pieces import GAUSS_NODES, GAUSS_WEIGHTS
 from microslip.model.composition import Model
 from microslip.model.drive import ConstantForce, HarmonicDrive
 from microslip.model.friction import kinetic_coefficient
@@ -94,8 +94,8 @@ def time_average(
     block = np.minimum(np.searchsorted(edges[::pieces_per_block], cuts[:-1], side="right") - 1,
                        blocks - 1)  # fmt: skip
     half = 0.5 * np.diff(cuts)
-    nodes = (0.5 * (cuts[:-1] + cuts[1:]))[:, None] + half[:, None] * cp.GAUSS_NODES[None, :]
-    weights = half[:, None] * cp.GAUSS_WEIGHTS[None, :]
+    nodes = (0.5 * (cuts[:-1] + cuts[1:]))[:, None] + half[:, None] * GAUSS_NODES[None, :]
+    weights = half[:, None] * GAUSS_WEIGHTS[None, :]
     run = simulate(model, duration=end, method="event", rtol=rtol, t_eval=nodes.ravel(), **kwargs)
     shape = nodes.shape
     force = (-_drive_sign(model) * run.Ft).reshape(shape)

@@ -14,7 +14,7 @@ from numba import njit
 
 from microslip import _jit_cache  # noqa: F401  (registers the cache before any @njit)
 from microslip import validation as check
-from microslip.analysis.contact_point import (
+from microslip.analysis.normal_pieces import (
     CLOSED_FORM,
     CLOSED_FORM_PIECES,
     INT_N,

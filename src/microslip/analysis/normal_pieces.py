@@ -1,0 +1,205 @@
+"""The pieces of one period of a known normal force N(t), on which it is smooth: the
+shared normal side of the exact steady state of a compliant contact point
+(:mod:`microslip.analysis.contact_point`, docs/theory/friction_reduction.md).
+
+:func:`build_pieces` cuts the period at the nodes of the normal orbit's table (or a
+uniform grid for a closed-form N), splits them at every contact switch and grades them
+geometrically towards it; it stores per piece the Gauss–Legendre integrals of N and of
+the contact stiffness, and the end values (one-sided at a switch).
+
+``src`` = (kind, t, y, ẏ, ÿ+, ÿ-, c): ``CLOSED_FORM`` (a prescribed penetration, N(t)
+from the coefficient vector c; the tables are unused) or ``TABLE`` (quintic Hermite
+nodes of a periodic orbit, :func:`microslip.analysis.periodic.orbit_state`). The
+stiffness evaluated is the elastic contact stiffness K(δ) = m2 S c_n δ^(m2-1).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit
+
+from microslip import _jit_cache  # noqa: F401  (registers the cache before any @njit)
+from microslip.analysis.periodic import orbit_state
+from microslip.model.contact import elastic_stiffness
+from microslip.model.normal import gap, normal_force, normal_force_rate
+
+__all__ = [
+    "CLOSED_FORM", "CLOSED_FORM_PIECES", "GAUSS_NODES", "GAUSS_WEIGHTS", "TABLE",
+    "build_pieces", "normal_at", "piece_integrals",
+]  # fmt: skip
+
+CLOSED_FORM = 0.0
+TABLE = 1.0
+
+# Columns of a piece: its ends [s], contact flag, ∫N [N s], ∫K [N s/m], ∫(b - s) K(s) ds
+# [N s²/m], and (N [N], Ṅ [N/s], K [N/m]) at both ends (one-sided at a contact switch).
+A, B, CONTACT, INT_N, INT_K, INT_K2, N_A, RATE_A, K_A, N_B, RATE_B, K_B = range(12)
+N_COLUMNS = 12
+
+GAUSS_NODES, GAUSS_WEIGHTS = np.polynomial.legendre.leggauss(8)
+_GRADING = 12  # a piece next to a contact switch is split at h/2, h/4, ..., h/2^12
+_NUDGE = 1e-9  # one-sided values at a switch: this fraction of the piece inside it
+CLOSED_FORM_PIECES = 32  # uniform pieces per period of a closed-form N(t)
+
+
+@njit(cache=True)
+def normal_at(t, src):
+    """(N [N], Ṅ [N/s], K [N/m]) at time t [s]; all 0 out of contact."""
+    kind, tn, yn, vn, a0, a1, c = src
+    y, yd = 0.0, 0.0
+    if kind == TABLE:
+        y, yd = orbit_state(t, tn, yn, vn, a0, a1)
+    n = normal_force(t, y, yd, c)
+    if n <= 0.0:
+        return 0.0, 0.0, 0.0
+    return n, normal_force_rate(t, y, yd, c), elastic_stiffness(gap(t, y, yd, c)[0], c)
+
+
+@njit(cache=True)
+def piece_integrals(lo, hi, src):
+    """(∫N [N s], ∫K [N s/m], ∫(hi - s) K(s) ds [N s²/m]) over [lo, hi] inside one piece
+    (Gauss–Legendre)."""
+    half = 0.5 * (hi - lo)
+    i_n = i_k = i_k2 = 0.0
+    for j in range(GAUSS_NODES.shape[0]):
+        s = 0.5 * (hi + lo) + half * GAUSS_NODES[j]
+        n, _rate, k = normal_at(s, src)
+        w = half * GAUSS_WEIGHTS[j]
+        i_n += w * n
+        i_k += w * k
+        i_k2 += w * (hi - s) * k
+    return i_n, i_k, i_k2
+
+
+@njit(cache=True, inline="always")
+def _contact(t, src):
+    return normal_at(t, src)[0] > 0.0
+
+
+@njit(cache=True)
+def _contact_cuts(base, src):
+    """The base boundaries with every contact switch inside them (bisected to round-off,
+    found between the Gauss nodes), and the contact state of each interval."""
+    cuts = [base[0]]
+    samples = GAUSS_NODES.shape[0]
+    for i in range(base.shape[0] - 1):
+        a, b = base[i], base[i + 1]
+        if b <= a:
+            continue
+        lo = a + _NUDGE * (b - a)
+        state = _contact(lo, src)
+        for j in range(samples + 1):
+            s = a + 0.5 * (b - a) * (GAUSS_NODES[j] + 1.0) if j < samples else b - _NUDGE * (b - a)
+            if _contact(s, src) != state:
+                hi = s
+                for _ in range(200):
+                    mid = 0.5 * (lo + hi)
+                    if mid <= lo or mid >= hi:
+                        break
+                    if _contact(mid, src) == state:
+                        lo = mid
+                    else:
+                        hi = mid
+                if hi > cuts[-1]:
+                    cuts.append(hi)
+                state = not state
+            lo = s
+        if b > cuts[-1]:
+            cuts.append(b)
+    states = np.empty(len(cuts) - 1)
+    for i in range(states.shape[0]):
+        states[i] = 1.0 if _contact(0.5 * (cuts[i] + cuts[i + 1]), src) else 0.0
+    return cuts, states
+
+
+@njit(cache=True)
+def build_pieces(base, src):
+    """Pieces of one period [base[0], base[-1]] on which N is smooth (rows ``N_COLUMNS``).
+
+    ``base``: the boundaries of the source's own smooth intervals (table nodes, or a
+    uniform grid for a closed form). Returns (pieces, max Ṅ [N/s], max Ṅ/K [m/s]), the
+    maxima over the contact (-inf where N never rises).
+    """
+    cuts, states = _contact_cuts(base, src)
+    n_cut = states.shape[0]
+    starts, ends, left_switch, right_switch = [0.0], [0.0], [False], [False]
+    for i in range(n_cut):
+        a, b = cuts[i], cuts[i + 1]
+        left = states[i] != states[i - 1]  # states[-1]: the period wraps around
+        right = states[i] != states[(i + 1) % n_cut]
+        points = [a]
+        if states[i] != 0.0:  # graded towards the switches at a and/or b
+            mid = 0.5 * (a + b) if (left and right) else (b if left else a)
+            for j in range(_GRADING, 0, -1):
+                if left:
+                    points.append(a + (mid - a) * 0.5**j)
+            if left and right:
+                points.append(mid)
+            for j in range(1, _GRADING + 1):
+                if right:
+                    points.append(b - (b - mid) * 0.5**j)
+        points.append(b)
+        for j in range(len(points) - 1):
+            starts.append(points[j])
+            ends.append(points[j + 1])
+            left_switch.append(left and j == 0)
+            right_switch.append(right and j == len(points) - 2)
+    n = len(starts) - 1
+    pieces = np.zeros((n, N_COLUMNS))
+    best = np.full(2, -np.inf)  # max Ṅ, max Ṅ/K
+    where = np.zeros(2)
+    for i in range(n):
+        a, b = starts[i + 1], ends[i + 1]
+        pieces[i, A], pieces[i, B] = a, b
+        if not _contact(0.5 * (a + b), src):
+            continue
+        pieces[i, CONTACT] = 1.0
+        pieces[i, INT_N], pieces[i, INT_K], pieces[i, INT_K2] = piece_integrals(a, b, src)
+        ta = a + _NUDGE * (b - a) if left_switch[i + 1] else a
+        tb = b - _NUDGE * (b - a) if right_switch[i + 1] else b
+        pieces[i, N_A], pieces[i, RATE_A], pieces[i, K_A] = normal_at(ta, src)
+        pieces[i, N_B], pieces[i, RATE_B], pieces[i, K_B] = normal_at(tb, src)
+        for j in range(GAUSS_NODES.shape[0] + 2):
+            s = ta if j == 0 else (tb if j == 1 else a + 0.5 * (b - a) * (GAUSS_NODES[j - 2] + 1))
+            for which in range(2):
+                value = _rate(s, which == 1, src)
+                if value > best[which]:
+                    best[which] = value
+                    where[which] = s
+    for which in range(2):
+        if best[which] > -np.inf:
+            best[which] = _refine(where[which], which == 1, pieces, best[which], src)
+    return pieces, best[0], best[1]
+
+
+@njit(cache=True, inline="always")
+def _rate(t, ratio, src):
+    """Ṅ [N/s], or Ṅ/K [m/s] (``ratio``), at t; -inf out of contact."""
+    n, rate, k = normal_at(t, src)
+    if n <= 0.0 or (ratio and k <= 0.0):
+        return -np.inf
+    return rate / k if ratio else rate
+
+
+@njit(cache=True)
+def _refine(t, ratio, pieces, value, src):
+    """Golden-section refinement of a sampled maximum of :func:`_rate` near t."""
+    i = min(max(np.searchsorted(pieces[:, A], t, side="right") - 1, 0), pieces.shape[0] - 1)
+    h = pieces[i, B] - pieces[i, A]
+    lo = max(pieces[i, A] + _NUDGE * h, t - h / 8.0)
+    hi = min(pieces[i, B] - _NUDGE * h, t + h / 8.0)
+    g = 0.5 * (math.sqrt(5.0) - 1.0)
+    x1, x2 = hi - g * (hi - lo), lo + g * (hi - lo)
+    f1, f2 = _rate(x1, ratio, src), _rate(x2, ratio, src)
+    for _ in range(80):
+        if f1 > f2:
+            hi, x2, f2 = x2, x1, f1
+            x1 = hi - g * (hi - lo)
+            f1 = _rate(x1, ratio, src)
+        else:
+            lo, x1, f1 = x1, x2, f2
+            x2 = lo + g * (hi - lo)
+            f2 = _rate(x2, ratio, src)
+    return max(value, f1, f2)
