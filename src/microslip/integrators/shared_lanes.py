@@ -53,8 +53,11 @@ LANE_ROWS = 9
 @njit(cache=True, error_model="numpy")
 def _vector_pass(lanes, n_range, h, h_int, h2_kint, p_min, p_max):
     """A piece for lanes [0, n_range) as if it held no switch (:func:`free_piece`),
-    vectorised. A flagged lane keeps its state. Returns the number of flagged lanes."""
+    vectorised. A flagged lane keeps its state. Returns the number of flagged lanes and
+    the last of them (-1 if none): the lanes a piece switches are few and close together
+    in the sorted order, and the search for them starts there."""
     n_flagged = 0
+    last = -1
     for i in range(n_range):
         vi = lanes[V, i]
         xi = lanes[X, i]
@@ -66,7 +69,8 @@ def _vector_pass(lanes, n_range, h, h_int, h2_kint, p_min, p_max):
         lanes[X, i] = xi if f else x1
         lanes[V, i] = vi if f else v1
         n_flagged += 1 if f else 0
-    return n_flagged
+        last = max(last, i if f else -1)
+    return n_flagged, last
 
 
 @njit(cache=True)
@@ -106,13 +110,13 @@ def _run_group(c, y0, ydot0, t_end, dt, lanes, switches, flagged):
                 else:
                     hi = mid
             n_range = max(n_active, lo)
-            n_flagged = _vector_pass(
+            n_flagged, last = _vector_pass(
                 lanes, n_range, h, h * tape[r, nt.INT1], h * h * tape[r, nt.KINT1], p_min,
                 tape[r, nt.PMAX],
             )  # fmt: skip
             a = nt.coefficients(tape, r)
             crit = nt.critical_points(tape, r)
-            for i in range(n_range):
+            for i in range(last, -1, -1):  # lanes are independent: any order
                 if n_flagged == 0:  # the rest of the lanes went through the vector pass
                     break
                 if lanes[FLAG, i] != 0.0:
