@@ -134,6 +134,27 @@ def test_forced_map_rows_are_the_curves_bit_for_bit():
     assert np.all(ds.mu_eff.values[1:] < ds.mu_kinetic.values[1:])  # reduction where it flies
 
 
+def test_a_map_value_that_is_not_period_one_falls_back_on_its_own_row():
+    """The map's normal cycles are computed side by side before its rows; a value whose
+    forced response is not period-1 (undamped, 15 N) is carried to its row: a rigid
+    contact gets μ_k with <N> = m g (identity 1), the period-1 value beside it stays
+    exact, and method='exact' on a compliant contact refuses the map in one line."""
+    rigid = ms.Model(P, excitation=ms.HarmonicForce(1.0, 1400.0),
+                     drive=ms.PrescribedVelocity(1e-4))  # fmt: skip
+    ds = ms.effective_friction_map(rigid, SPEEDS[:2], "excitation.amplitude", [1.0, 15.0])
+    assert np.all(ds.mu_eff.values == 0.1) and ds.attrs["method"] == "exact"
+    assert np.all(ds.mean_normal_force.values[1] == P.mass * P.g)
+    np.testing.assert_allclose(ds.mean_normal_force.values[0], P.mass * P.g, rtol=1e-9)
+    alone = ms.effective_friction_curve(rigid, SPEEDS[:2])
+    np.testing.assert_array_equal(ds.mean_normal_force.values[0], alone.mean_normal_force.values)
+    compliant = rigid.replace(tangential=ms.TangentialSpring(7e7))
+    with pytest.raises(ValueError, match="method='exact': .*period-1") as error:
+        ms.effective_friction_map(
+            compliant, SPEEDS[:2], "excitation.amplitude", [1.0, 15.0], method="exact"
+        )
+    assert "\n" not in str(error.value)
+
+
 def test_map_over_the_free_vibration_amplitude():
     model = ms.Model(P, tangential=ms.TangentialSpring(1e7), drive=ms.PrescribedVelocity(1e-4))
     amplitudes = np.array([0.0, 0.5, 1.5]) * Y0

@@ -202,22 +202,20 @@ def _exact_points(model: Model, cycle: NormalCycle, speeds: np.ndarray) -> dict[
     )  # fmt: skip
 
 
-def _points(model, speeds, amplitude, method, cache, options, transients=None):
+def _points(model, speeds, amplitude, method, cache, options):
     """(fields by name over ``speeds``, methods used, period [s]) for a kinematic model.
-    ``transients``: forced orbits' first transients by normal model
-    (:func:`normal_period.forced_transients`)."""
+    ``cache``: normal cycles by (normal model, amplitude)
+    (:func:`normal_period.normal_cycles`), filled here as needed."""
     from microslip.analysis.periodic import NotPeriodOneError
 
     if method != "time_average":
         key = (normal_period.normal_model(model), amplitude)
-        try:
-            if key not in cache:
-                start = None if transients is None else transients.get(key[0])
-                cache[key] = normal_period.normal_cycle(model, amplitude, start)
-            cycle = cache[key]
-        except NotPeriodOneError as error:
+        if key not in cache:
+            cache.update(normal_period.normal_cycles([(model, amplitude)]))
+        cycle = cache[key]
+        if isinstance(cycle, NotPeriodOneError):
             if model.is_compliant and method == "exact":
-                raise ValueError(f"method='exact': {error}") from None
+                raise ValueError(f"method='exact': {cycle}") from None
             # rigid: μ_eff = μ_k whatever the normal motion; <N> = m g (identity 1)
             weight = model.params.mass * model.params.g
             cycle = None if model.is_compliant else NormalCycle(model.excitation.period, weight)
@@ -371,20 +369,16 @@ def effective_friction_map(
             raise ValueError("drive.velocity is the velocity axis; choose another field")
         unit, text = model.unit(name), name
     values = check.real_array(name, values)
-    cache: dict = {}
     rows, methods, periods = [], set(), []
     points = [
         (model, float(value)) if name == "amplitude"
         else (model.replace(**{name: float(value)}), amplitude)
         for value in values
     ]  # fmt: skip
-    transients = (
-        {}
-        if method == "time_average"
-        else normal_period.forced_transients([point for point, _ in points])
-    )
+    # Each distinct normal motion once, side by side (shared by the rows it serves).
+    cache = {} if method == "time_average" else normal_period.normal_cycles(points)
     for point, amp in points:
-        fields, used, period = _points(point, speeds, amp, method, cache, _DEFAULTS, transients)
+        fields, used, period = _points(point, speeds, amp, method, cache, _DEFAULTS)
         rows.append(fields)
         methods |= used
         periods.append(period)

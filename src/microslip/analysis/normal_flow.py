@@ -257,7 +257,7 @@ def in_contact(t, y, yd, c):
     return _value(W_CONTACT, t, s, c, True) > 0.0
 
 
-@njit(cache=True)
+@njit(cache=True, nogil=True)
 def propagate(c, y_start, yd_start, t0, duration, n_steps, record, variational):
     """Integrate the normal motion from (t0, y, ẏ) over ``duration`` [s] in n_steps steps.
 

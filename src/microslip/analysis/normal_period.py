@@ -7,8 +7,10 @@ coefficient (docs/theory/friction_reduction.md).
 from __future__ import annotations
 
 import math
+from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass
 
+import numba
 import numpy as np
 from numba import njit
 
@@ -25,7 +27,7 @@ from microslip.model.composition import Model
 from microslip.model.excitation import BaseMotion, HarmonicForce, PrescribedPenetration
 from microslip.model.normal import normal_acceleration, normal_force
 
-__all__ = ["NormalCycle", "forced_transients", "normal_cycle", "normal_model"]
+__all__ = ["NormalCycle", "forced_transients", "normal_cycle", "normal_cycles", "normal_model"]
 
 FREE_PIECES = 64  # pieces per period of the free orbit's table (_coarse_base)
 
@@ -69,7 +71,7 @@ def _free_table(normal: Model, amplitude: float):
     return 2.0 * half, t, y, yd, _accelerations(y, c)
 
 
-@njit(cache=True)
+@njit(cache=True, nogil=True)
 def _accelerations(y, c):
     """ÿ [m/s^2] of the free normal motion (2.4) at the nodes y [m]."""
     out = np.empty(y.shape[0])
@@ -151,3 +153,32 @@ def normal_cycle(
     pieces, rate_max, ratio_max = build_pieces(np.ascontiguousarray(base, dtype=float), source)
     mean = float(pieces[:, INT_N].sum()) / period
     return NormalCycle(period, mean, kind, source, pieces, float(rate_max), float(ratio_max))
+
+
+def normal_cycles(points: list[tuple[Model, float | None]]) -> dict:
+    """The steady normal motion of each distinct normal set-up of ``points`` ((model,
+    amplitude [m] or None) pairs), by (normal model, amplitude): its :class:`NormalCycle`,
+    or the NotPeriodOneError of a forced response that is not period-1.
+
+    The forced orbits' first transients run side by side over the cores
+    (:func:`forced_transients`), then the cycles on numba's thread count: their compiled
+    parts (the orbit, the flow map, the pieces) release the GIL. Each cycle is computed
+    on its own, so its bits are those of :func:`normal_cycle` alone.
+    """
+    from microslip.analysis.periodic import NotPeriodOneError
+
+    keys = list(dict.fromkeys((normal_model(model), amplitude) for model, amplitude in points))
+    transients = forced_transients([normal for normal, _ in keys])
+
+    def one(key):
+        normal, amplitude = key
+        try:
+            return normal_cycle(normal, amplitude, transients.get(normal))
+        except NotPeriodOneError as error:
+            return error
+
+    threads = min(numba.get_num_threads(), len(keys))
+    if threads <= 1:
+        return {key: one(key) for key in keys}
+    with ThreadPoolExecutor(threads) as pool:
+        return dict(zip(keys, pool.map(one, keys), strict=True))

@@ -114,7 +114,7 @@ def _contact_cuts(base, src):
     return cuts, states
 
 
-@njit(cache=True)
+@njit(cache=True, nogil=True)
 def build_pieces(base, src):
     """Pieces of one period [base[0], base[-1]] on which N is smooth (rows ``N_COLUMNS``).
 

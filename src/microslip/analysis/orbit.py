@@ -147,7 +147,7 @@ def _hermite(y0, v0, a0, y1, v1, a1, h, s):
     return value, slope
 
 
-@njit(cache=True)
+@njit(cache=True, nogil=True)
 def build_half_orbit(amplitude, c, steps_per_half, ys, yds, summary):
     """Fill ``ys``, ``yds`` [m, m/s] and ``summary`` (O_* slots) for amplitude A [m].
 
