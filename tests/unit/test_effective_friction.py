@@ -148,7 +148,7 @@ def test_a_map_value_that_is_not_period_one_falls_back_on_its_own_row():
     alone = ms.effective_friction_curve(rigid, SPEEDS[:2])
     np.testing.assert_array_equal(ds.mean_normal_force.values[0], alone.mean_normal_force.values)
     compliant = rigid.replace(tangential=ms.TangentialSpring(7e7))
-    with pytest.raises(ValueError, match="method='exact': .*period-1") as error:
+    with pytest.raises(ValueError, match=r"method='exact': .*period-1") as error:
         ms.effective_friction_map(
             compliant, SPEEDS[:2], "excitation.amplitude", [1.0, 15.0], method="exact"
         )

@@ -54,11 +54,7 @@ from microslip.model.capabilities import require
 from microslip.model.coefficients import MU, MU_STATIC, TANGENTIAL_STIFFNESS
 from microslip.model.composition import Model
 from microslip.model.drive import ConstantForce, HarmonicDrive, PrescribedVelocity, SpringDrive
-from microslip.model.friction import (
-    StaticKinetic,
-    Stribeck,
-    kinetic_coefficients,
-)
+from microslip.model.friction import StaticKinetic, Stribeck, kinetic_coefficients
 from microslip.model.tangential import MindlinSpring, TangentialSpring
 
 __all__ = [
