@@ -48,7 +48,7 @@ _EXPORTS = {
     "effective_friction_map": "microslip.analysis.effective_friction",
     "flat_punch_reduction": "microslip.analysis.flat_punch",
     "DriveCycle": "microslip.analysis.spring_stick_slip",
-    "constant_normal_cycle": "microslip.analysis.spring_stick_slip",
+    "constant_normal_cycle": "microslip.analysis.stick_slip_closed_form",
     "stick_slip_drive": "microslip.analysis.spring_stick_slip",
     "stick_slip_drive_map": "microslip.analysis.spring_stick_slip",
     "friction_curve": "microslip.analysis.friction_curve",

@@ -8,11 +8,8 @@ import numpy as np
 import pytest
 
 import microslip as ms
-from microslip.analysis.spring_stick_slip import (
-    constant_normal_cycle,
-    stick_slip_drive,
-    stick_slip_drive_map,
-)
+from microslip.analysis.spring_stick_slip import stick_slip_drive, stick_slip_drive_map
+from microslip.analysis.stick_slip_closed_form import constant_normal_cycle
 
 P = ms.Parameters()
 Y0 = P.static_deflection

@@ -5,7 +5,8 @@ See docs/theory/stick_slip_drive.md.
 :func:`stick_slip_drive` simulates a model whose drive is a
 :class:`~microslip.model.drive.SpringDrive` until the stick–slip is established and
 returns its cycle statistics; :func:`stick_slip_drive_map` repeats it over drive
-velocities and normal vibration amplitudes; :func:`constant_normal_cycle` is the closed
+velocities and normal vibration amplitudes;
+:func:`~microslip.analysis.stick_slip_closed_form.constant_normal_cycle` is the closed
 form for a rigid contact at constant N (undamped, μ_s >= μ_k), derived on that page:
 
     Δ = (μ_s − μ_k) N / k_d,  ω = sqrt(k_d / m),  force drop 2 (μ_s − μ_k) N,
@@ -28,6 +29,11 @@ from dataclasses import dataclass
 import numpy as np
 
 from microslip import validation as check
+from microslip.analysis.stick_slip_closed_form import (
+    checked_drive_speed,
+    cycle_times,
+    friction_coefficients,
+)
 from microslip.model.capabilities import require
 from microslip.model.composition import Model, as_model
 from microslip.model.drive import SpringDrive
@@ -38,9 +44,7 @@ from microslip.model.tangential import MindlinSpring, TangentialSpring
 from microslip.results import STICK, SimulationResult
 
 __all__ = [
-    "ConstantNormalCycle",
     "DriveCycle",
-    "constant_normal_cycle",
     "stick_slip_drive",
     "stick_slip_drive_map",
 ]
@@ -64,26 +68,6 @@ _GROWTH = 2.0
 _ATTEMPTS = 6
 _SLIDING_SPANS = 4.0  # sliding: no stick during this many estimated periods at the end
 _HISTORY = 3  # cycles (and at least as many estimated periods) kept in the history
-
-
-@dataclass(frozen=True)
-class ConstantNormalCycle:
-    """Closed-form cycle at constant N (rigid contact, undamped), SI units.
-
-    Attributes: ``period`` = ``stick_time`` + ``slip_time`` [s]; ``force_drop``
-    2(μ_s − μ_k)N [N]; ``peak_force`` μ_s N [N], |F| at a slip start; ``slip_distance``
-    |v_d| · period [m]; ``peak_velocity`` |v_d| + sqrt(v_d² + Δ²ω²) [m/s];
-    ``first_slip_time`` μ_s N / (k_d |v_d|) [s] from a relaxed spring at t = 0.
-    """
-
-    period: float
-    stick_time: float
-    slip_time: float
-    force_drop: float
-    peak_force: float
-    slip_distance: float
-    peak_velocity: float
-    first_slip_time: float
 
 
 @dataclass(frozen=True)
@@ -131,73 +115,6 @@ class DriveCycle:
         return self.regime == STICK_SLIP
 
 
-def _coefficients(model: Model) -> tuple[float, float]:
-    """(μ_s, μ_k) of the model's friction law (Coulomb: μ, μ)."""
-    if model.paper_choice("friction"):
-        return model.params.mu, model.params.mu
-    return model.friction.mu_static, model.friction.mu_kinetic
-
-
-def _checked_speed(model: Model) -> float:
-    if model.drive.velocity == 0.0:
-        raise ValueError("drive.velocity=0.0 m s-1: a spring drive at rest never slips")
-    return abs(model.drive.velocity)
-
-
-def _cycle_times(mass, k, k_d, speed, mu_s, mu_k, normal) -> tuple[float, float, float]:
-    """(stick time, slip time, first slip time) [s] of the constant-N closed form."""
-    omega = math.sqrt(k_d / mass)
-    half = (mu_s - mu_k) * normal / k
-    slip = 2.0 / omega * (math.pi - math.atan(half * omega / speed))
-    return 2.0 * half / speed, slip, mu_s * normal / (k * speed)
-
-
-def constant_normal_cycle(
-    model: Model, *, normal_force: float | None = None
-) -> ConstantNormalCycle:
-    """The closed-form cycle of a rigid contact at constant N (docs/theory/stick_slip_drive.md).
-
-    Parameters
-    ----------
-    model : Model
-        Rigid tangential contact, Coulomb or StaticKinetic friction, a SpringDrive with
-        v_d != 0; its normal motion is not looked at.
-    normal_force : float, optional
-        N [N] > 0; default m g (at rest, and the mean of any bounded normal motion).
-
-    Returns
-    -------
-    ConstantNormalCycle
-        With μ_s = μ_k (Coulomb) the stick time is 0 and the slip a whole oscillation
-        2π/ω: the velocity touches 0 without sticking (sliding, no force drop).
-    """
-    model = as_model(model)
-    require(
-        model, "constant_normal_cycle",
-        allowed={"friction": (None, StaticKinetic), "drive": (SpringDrive,)},
-        instead="it holds for a rigid contact with Coulomb or StaticKinetic friction and "
-        "a SpringDrive; use stick_slip_drive for the others",
-    )  # fmt: skip
-    params = model.params
-    normal = params.mass * params.g if normal_force is None else normal_force
-    normal = check.real("normal_force", normal, minimum=0.0, strict=True)
-    speed = _checked_speed(model)
-    mu_s, mu_k = _coefficients(model)
-    k_d = model.drive.stiffness
-    stick, slip, first = _cycle_times(params.mass, k_d, k_d, speed, mu_s, mu_k, normal)
-    omega_half = math.sqrt(k_d / params.mass) * (mu_s - mu_k) * normal / k_d
-    return ConstantNormalCycle(
-        period=stick + slip,
-        stick_time=stick,
-        slip_time=slip,
-        force_drop=2.0 * (mu_s - mu_k) * normal,
-        peak_force=mu_s * normal,
-        slip_distance=speed * (stick + slip),
-        peak_velocity=speed + math.hypot(speed, omega_half),
-        first_slip_time=first,
-    )
-
-
 def _estimate(model: Model) -> tuple[float, float]:
     """(first slip time, period) [s]: the constant-N closed form at the mean normal force,
     the tangential spring of a compliant contact in series with the drive's."""
@@ -214,8 +131,8 @@ def _estimate(model: Model) -> tuple[float, float]:
     elif isinstance(model.tangential, MindlinSpring):
         k_t = model.tangential.ratio * params.contact_stiffness
     k = k_d if k_t == math.inf else k_d * k_t / (k_d + k_t)
-    stick, slip, first = _cycle_times(
-        params.mass, k, k_d, _checked_speed(model), *_coefficients(model), normal
+    stick, slip, first = cycle_times(
+        params.mass, k, k_d, checked_drive_speed(model), *friction_coefficients(model), normal
     )
     return first, stick + slip
 
