@@ -32,7 +32,7 @@ stick–slip is established).
 # 0.3 y0. It draws the last cycles of each: the spring force against the friction limit
 # μ_s N (the grey band, oscillating at f0 with vibration), and the body velocity.
 import microslip as ms
-from microslip.analysis.spring_stick_slip import constant_normal_cycle
+from microslip.analysis.stick_slip_closed_form import constant_normal_cycle
 from microslip.plotting.friction import spring_stick_slip_figure, stick_slip_model
 
 p = ms.Parameters()
@@ -43,7 +43,7 @@ fig, cycles = spring_stick_slip_figure(p)
 # -----------------------------------
 #
 # Without vibration the simulated cycle is the closed form's;
-# :func:`~microslip.analysis.spring_stick_slip.constant_normal_cycle` gives it.
+# :func:`~microslip.analysis.stick_slip_closed_form.constant_normal_cycle` gives it.
 model = stick_slip_model(p)
 closed = constant_normal_cycle(model)
 still = cycles.sel(case=0)
