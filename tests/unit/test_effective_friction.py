@@ -44,6 +44,8 @@ def punch(**parts) -> ms.Model:
         (lambda: ms.effective_friction_curve(punch(), [1e-4, np.nan]), "finite"),
         (lambda: ms.effective_friction_curve(punch(), [[1e-4]]), "one-dimensional"),
         (lambda: ms.effective_friction_curve(punch(), [1e-4, 1e9]), "1e6 g T0"),
+        (lambda: ms.effective_friction_curve(punch(), [1e-4, 0.0]),
+         r"^drive velocity 0\.0 m s-1 must be nonzero"),  # the value, not a NumPy repr
         (lambda: ms.effective_friction_map(punch(), SPEEDS, "drive.velocity", [1e-4]),
          "velocity axis"),
         (lambda: ms.effective_friction_map(punch(), SPEEDS, "tangential.colour", [1.0]),

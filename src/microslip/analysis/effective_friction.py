@@ -156,7 +156,7 @@ def _speeds(model: Model, velocities: Any) -> np.ndarray:
     speeds = check.real_array("velocities", velocities)
     limit = model.params.max_velocity
     if np.any(speeds == 0.0) or np.any(np.abs(speeds) > limit):
-        bad = speeds[(speeds == 0.0) | (np.abs(speeds) > limit)][0]
+        bad = float(speeds[(speeds == 0.0) | (np.abs(speeds) > limit)][0])
         raise ValueError(
             f"drive velocity {bad!r} m s-1 must be nonzero with |v| <= 1e6 g T0 = {limit:.6g} "
             "m s-1 (at v = 0 the contact transmits an undetermined static force)"
