@@ -210,6 +210,21 @@ def _touchdown(a, h, k_t, mass, gravity, mu_s, mu_k, v):
 PIECE = 10
 
 
+@njit(cache=True, inline="always")
+def set_spring(piece, omega, k_t, mass, gravity):
+    """Write a set-up's columns of ``piece``: ω = sqrt(k_t/m) [rad/s], k_t [N/m], m [kg],
+    g [m/s^2]."""
+    piece[P_OMEGA], piece[P_KT], piece[P_MASS], piece[P_GRAVITY] = omega, k_t, mass, gravity
+
+
+@njit(cache=True, inline="always")
+def set_piece(piece, a, h):
+    """Write a tape piece's columns of ``piece`` (its set-up's written already): h [s],
+    θ = ω h, and the bounds of the quartic ``a``'s derivatives (:func:`derivative_bounds`)."""
+    piece[P_H], piece[P_THETA] = h, piece[P_OMEGA] * h
+    piece[P_D0], piece[P_D1], piece[P_D2], piece[P_D3] = derivative_bounds(a)
+
+
 @njit(cache=True)
 def lane_piece(a, piece, force, fm, km, mu_s, mu_k, x, v, f, mode):
     """(x, ẋ, f, mode, switches) of one lane at the end of a contact piece, through its

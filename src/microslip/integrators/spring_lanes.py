@@ -32,19 +32,18 @@ from microslip.integrators import normal_tape as nt
 from microslip.integrators.shared_lanes import LANE_STALLED, OK, raise_on_failure
 from microslip.integrators.spring_lane_law import (
     FLIGHT,
-    P_D0,
     P_D1,
     P_D2,
     P_D3,
-    P_GRAVITY,
     P_H,
     P_KT,
     P_MASS,
     P_OMEGA,
     P_THETA,
     PIECE,
-    derivative_bounds,
     lane_piece,
+    set_piece,
+    set_spring,
 )
 from microslip.model.coefficients import GRAVITY, MASS
 from microslip.model.normal import normal_force
@@ -158,7 +157,7 @@ def _run_group(c, y0, ydot0, k_t, t_end, dt, lanes, switches, flagged):
     mass = c[MASS]
     omega = math.sqrt(k_t / mass)
     piece = np.empty(PIECE)
-    piece[P_OMEGA], piece[P_KT], piece[P_MASS], piece[P_GRAVITY] = omega, k_t, mass, c[GRAVITY]
+    set_spring(piece, omega, k_t, mass, c[GRAVITY])
     flying = starts_in_flight(c, y0, ydot0)
     for i in range(n):
         lanes[MODE, i] = FLIGHT if flying else 0.0
@@ -178,8 +177,7 @@ def _run_group(c, y0, ydot0, k_t, t_end, dt, lanes, switches, flagged):
                 _flight_pass(lanes, n, h)
                 continue
             flying = False  # a lane that lands is flagged: the piece applies the touchdown
-            piece[P_H], piece[P_THETA] = h, omega * h
-            piece[P_D0], piece[P_D1], piece[P_D2], piece[P_D3] = derivative_bounds(a)
+            set_piece(piece, a, h)
             n_flagged = _vector_pass(
                 lanes, n, a, piece, h * tape[r, nt.INT1], h * h * tape[r, nt.KINT1]
             )

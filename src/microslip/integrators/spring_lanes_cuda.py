@@ -25,22 +25,7 @@ from numba import float64
 from microslip import _jit_cache  # noqa: F401  (registers the cache before any @njit)
 from microslip.integrators import normal_tape as nt
 from microslip.integrators.shared_lanes_cuda import cuda, cuda_unavailable, run_lanes
-from microslip.integrators.spring_lane_law import (
-    FLIGHT,
-    P_D0,
-    P_D1,
-    P_D2,
-    P_D3,
-    P_GRAVITY,
-    P_H,
-    P_KT,
-    P_MASS,
-    P_OMEGA,
-    P_THETA,
-    PIECE,
-    derivative_bounds,
-    lane_piece,
-)
+from microslip.integrators.spring_lane_law import FLIGHT, PIECE, lane_piece, set_piece, set_spring
 from microslip.integrators.spring_lanes import (
     FM,
     FORCE,
@@ -77,9 +62,8 @@ def _kernel():
             return
         g = lane_group[i]
         piece = cuda.local.array(PIECE, float64)
-        omega = setups[g, S_OMEGA]
-        piece[P_OMEGA], piece[P_KT] = omega, setups[g, S_KT]
-        piece[P_MASS], piece[P_GRAVITY] = setups[g, S_MASS], setups[g, S_GRAVITY]
+        set_spring(piece, setups[g, S_OMEGA], setups[g, S_KT], setups[g, S_MASS],
+                   setups[g, S_GRAVITY])  # fmt: skip
         force, fm, km = lanes[FORCE, i], lanes[FM, i], lanes[KM, i]
         mu_s, mu_k = lanes[MU_S, i], lanes[MU_K, i]
         x, v, f, mode = lanes[X, i], lanes[V, i], lanes[FS, i], lanes[MODE, i]
@@ -99,8 +83,7 @@ def _kernel():
                 x, v = flight_step(x, v, fm, h)
                 continue
             in_air = False  # a lane that lands is flagged: lane_piece applies the touchdown
-            piece[P_H], piece[P_THETA] = h, omega * h
-            piece[P_D0], piece[P_D1], piece[P_D2], piece[P_D3] = derivative_bounds(a)
+            set_piece(piece, a, h)
             k = piece_constants(a, piece, h * tapes[g, r, nt.INT1], h * h * tapes[g, r, nt.KINT1])
             flag, x1, v1, f1 = free_piece(k, mode, x, v, f, force, fm, km, mu_s, mu_k)
             if not flag:
