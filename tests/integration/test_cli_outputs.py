@@ -189,7 +189,12 @@ def test_second_map_on_the_same_output_stops_at_once(tmp_path):
         assert_one_line_failure(second.returncode, second.stderr, "another microslip run")
     finally:
         first.send_signal(signal.SIGINT)
-        _, first_err = first.communicate(timeout=60)
+        try:
+            _, first_err = first.communicate(timeout=60)
+        except subprocess.TimeoutExpired:
+            first.kill()
+            _, first_err = first.communicate()
+            pytest.fail(f"the first run went on for 60 s after its SIGINT: {first_err!r}")
     assert first.returncode == 130
     assert_one_line_failure(130, first_err, "interrupted", "resume", code=130)
     assert not out.exists() and not lock.exists()

@@ -4,17 +4,21 @@ While a command runs, SIGINT raises ``KeyboardInterrupt`` and SIGTERM raises
 :class:`Terminated` (a ``KeyboardInterrupt``, so every cleanup that handles Ctrl-C also
 handles ``kill``, ``timeout`` and batch schedulers). Inside :func:`uninterruptible`
 (moving finished outputs into place) a signal is held back and raised when the block
-ends, so the outputs are moved all or none. :data:`RUN` records what the command has
-written, so that a late interrupt can say that those outputs are complete.
+ends, so the outputs are moved all or none. A signal that native code swallows (a
+callback from LLVM while numba compiles) is sent again until it is raised. :data:`RUN`
+records what the command has written, so that a late interrupt can say that those
+outputs are complete.
 """
 
 from __future__ import annotations
 
 import contextlib
 import gc
+import os
 import signal
 import sys
 import threading
+import time
 from collections.abc import Iterator
 from dataclasses import dataclass, field
 
@@ -47,6 +51,13 @@ class RunRecord:
 RUN = RunRecord()
 _held: list[int] = []
 _depth = [0]
+# A signal swallowed by native code is sent again from a helper thread this long after,
+# once the callback that swallowed it has returned (see ``_redeliver``).
+REDELIVERY_DELAY_S = 0.05
+_redelivery = threading.Lock()
+_installed = [0]  # which handling_signals block has its handlers in place (0: none)
+_blocks = [0]  # handling_signals blocks entered so far
+_in_unraisable_hook = [False]
 
 
 def interrupt_for(signum: int) -> KeyboardInterrupt:
@@ -64,7 +75,28 @@ def _handler(signum: int, frame) -> None:
     if _depth[0]:
         _held.append(signum)  # raised when the uninterruptible block ends
         return
+    if _in_unraisable_hook[0]:  # raised here it would be lost again: later
+        _schedule_redelivery(signum)
+        return
     _raise_for(signum)
+
+
+def _redeliver(signum: int, block: int) -> None:
+    time.sleep(REDELIVERY_DELAY_S)
+    with _redelivery:  # only while the block whose signal it was still runs
+        if _installed[0] == block:
+            os.kill(os.getpid(), signum)
+
+
+def _schedule_redelivery(signum: int) -> None:
+    """Send ``signum`` again shortly, from a helper thread.
+
+    An interrupt raised inside a callback from native code (llvmlite's object-cache
+    callbacks while numba compiles) cannot propagate: it is printed as "Exception
+    ignored" and lost, and the compile may well succeed, so the command would run to its
+    end. Sent again, it is raised at the next point where Python code runs; if that is
+    inside such a callback again, it is sent again."""
+    threading.Thread(target=_redeliver, args=(signum, _installed[0]), daemon=True).start()
 
 
 @contextlib.contextmanager
@@ -80,17 +112,30 @@ def handling_signals() -> Iterator[None]:
 
     def unraisable(record) -> None:
         # Native code calling back into Python (llvmlite during a JIT compile) cannot
-        # propagate our interrupt: it prints it as "Exception ignored" and fails after.
-        # RUN.signal has it; the command line reports the interrupt in its own line.
+        # propagate our interrupt: it would print it as "Exception ignored", then either
+        # fail (RUN.signal has the interrupt; the command line reports it in its own
+        # line) or go on as if no signal had come. It is sent again instead.
         if record.exc_type is None or not issubclass(record.exc_type, KeyboardInterrupt):
             previous_hook(record)
+            return
+        _in_unraisable_hook[0] = True
+        try:
+            is_term = issubclass(record.exc_type, Terminated)
+            _schedule_redelivery(signal.SIGTERM if is_term else signal.SIGINT)
+        finally:
+            _in_unraisable_hook[0] = False
 
     sys.unraisablehook = unraisable
     for sig in _SIGNALS:
         signal.signal(sig, _handler)
+    outer = _installed[0]
+    _blocks[0] += 1
+    _installed[0] = _blocks[0]
     try:
         yield
     finally:
+        with _redelivery:
+            _installed[0] = outer
         for sig, old in previous.items():
             signal.signal(sig, old)
         sys.unraisablehook = previous_hook
