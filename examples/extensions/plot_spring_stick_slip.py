@@ -25,15 +25,15 @@ stick–slip is established).
 # The three runs
 # --------------
 #
-# :func:`~microslip.plotting.friction.spring_stick_slip_figure` builds the model of
-# :func:`~microslip.plotting.friction.stick_slip_model` (rigid contact,
+# :func:`~microslip.plotting.stick_slip.spring_stick_slip_figure` builds the model of
+# :func:`~microslip.plotting.stick_slip.stick_slip_model` (rigid contact,
 # ``StaticKinetic(μ_s = 1.5 μ, μ_k = μ)``, ``SpringDrive(k_d = 1e-3 K_n, v_d)``) and runs
 # :func:`~microslip.analysis.spring_stick_slip.stick_slip_drive` for A = 0, 0.1 y0 and
 # 0.3 y0. It draws the last cycles of each: the spring force against the friction limit
 # μ_s N (the grey band, oscillating at f0 with vibration), and the body velocity.
 import microslip as ms
 from microslip.analysis.stick_slip_closed_form import constant_normal_cycle
-from microslip.plotting.friction import spring_stick_slip_figure, stick_slip_model
+from microslip.plotting.stick_slip import spring_stick_slip_figure, stick_slip_model
 
 p = ms.Parameters()
 fig, cycles = spring_stick_slip_figure(p)

@@ -20,6 +20,7 @@ from scipy.optimize import brentq
 
 import microslip as ms
 from microslip.plotting import friction
+from microslip.plotting import stick_slip as stick_slip_plots
 
 P = ms.Parameters()
 BETAS = friction.MASTER_BETAS
@@ -189,7 +190,7 @@ def test_friction_curve_figure_marks_critical_speed():
 # -- spring-driven stick–slip ----------------------------------------------------------
 @pytest.fixture(scope="module")
 def stick_slip():
-    return friction.spring_stick_slip_figure(P)
+    return stick_slip_plots.spring_stick_slip_figure(P)
 
 
 def test_spring_stick_slip_without_vibration(stick_slip):

@@ -27,7 +27,8 @@ behind it as ``NAME.png`` and ``NAME.nc``:
   normal vibration: drive force, friction limit μ_s N and body velocity against time,
   the force drops marked (2 (μ_s − μ_k) m g without vibration).
 
-The last three are drawn by :mod:`microslip.plotting.friction`.
+The last three are drawn by :mod:`microslip.plotting.friction` and
+:mod:`microslip.plotting.stick_slip`.
 
 For other parameters the forces scale with m g (P0) and μ m g (F), the frequencies
 with f0, so each figure shows the same phenomena. The grids are small on purpose: each
@@ -54,13 +55,10 @@ from microslip.model.composition import Model
 from microslip.model.damping import Viscous, damping_coefficient
 from microslip.model.excitation import HarmonicForce
 from microslip.model.parameters import Parameters
-from microslip.plotting.friction import (
-    master_curve_figure,
-    mu_eff_map_figure,
-    spring_stick_slip_figure,
-)
+from microslip.plotting.friction import master_curve_figure, mu_eff_map_figure
 from microslip.plotting.response import draw_branch, fold_indices, legend_handles
 from microslip.plotting.scales import PAPER, figure_scales, require_friction
+from microslip.plotting.stick_slip import spring_stick_slip_figure
 from microslip.results import FLIGHT
 
 __all__ = [
