@@ -76,7 +76,7 @@ def cmd_sweep(args: argparse.Namespace) -> int:
     )
     from microslip.io.ranges import parse_values
     from microslip.sweeps import SweepSpec, run_sweep
-    from microslip.sweeps.spec import TIME_TANGENTIAL
+    from microslip.sweeps.kernel_choice import TIME_TANGENTIAL
     from microslip.sweeps.store import exclusive_lock, remove_store
 
     opts = gather(args, args.command)

@@ -7,7 +7,8 @@ import numpy as np
 from microslip.analysis.steady_state import ORBIT_STEPS, mean_velocity_grid
 from microslip.model.coefficients import FORCE, pack
 from microslip.simulation import DEFAULT_RK4_STEPS_PER_PERIOD, initial_state_from_amplitude
-from microslip.sweeps.spec import ChunkKey, SweepSpec, time_kernel
+from microslip.sweeps.kernel_choice import time_kernel
+from microslip.sweeps.spec import ChunkKey, SweepSpec
 
 
 def compute_chunk(spec: SweepSpec, key: ChunkKey) -> np.ndarray:

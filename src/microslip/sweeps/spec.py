@@ -23,104 +23,28 @@ import numpy as np
 
 from microslip import budget
 from microslip import validation as check
-from microslip.analysis.steady_state import TANGENTIAL_INSTEAD
 from microslip.model.capabilities import require
 from microslip.model.composition import Model, as_model
 from microslip.model.parameters import DERIVED_RANGES, Parameters
-from microslip.model.tangential import MindlinSpring, TangentialSpring
 from microslip.sweeps.axes import (
     check_fields,
     check_part_axes,
     checked_axis,
     grid_logs,
-    log_step_period,
 )
-from microslip.validation import DEFAULT_RK4_STEPS_PER_PERIOD
+from microslip.sweeps.kernel_choice import (
+    CUDA_CHUNK_LANES,
+    SWEEP_INSTEAD,
+    TIME_TANGENTIAL,
+    checked_backend,
+    estimate_work,
+)
 
 METHODS = ("steady", "time")
-BACKENDS = ("cpu", "cuda")  # where the shared-normal time kernel runs
-CUDA_CHUNK_LANES = 2**18  # default lanes per chunk on a GPU (it needs many to be busy)
 DEFAULT_DURATION = 0.05  # [s], "time" method
 # Parameter combinations are checked on a dense grid; beyond this many it would not fit.
 MAX_PARAMETER_SETS = 10_000_000
 ChunkKey = tuple[int, ...]  # parameter-axis indices..., amplitude-chunk index
-# The tangential contacts of a time sweep (a Mindlin one runs on the batched kernel).
-TIME_TANGENTIAL = (None, TangentialSpring, MindlinSpring)
-SWEEP_INSTEAD = (
-    f"{TANGENTIAL_INSTEAD}; method='time' also takes a compliant tangential contact "
-    "(TangentialSpring, MindlinSpring)"
-)
-
-
-def time_kernel(model: Model) -> str:
-    """The kernel of a time sweep of ``model`` (:func:`microslip.budget.estimate_sweep`):
-    "shared" (rigid contact), "spring" (TangentialSpring) or "batched" (MindlinSpring)."""
-    if not model.is_compliant:
-        return "shared"
-    return "spring" if isinstance(model.tangential, TangentialSpring) else "batched"
-
-
-def _checked_backend(backend: Any, model: Model, method: str) -> str:
-    """``backend`` if this sweep can run there, else ValueError in one line."""
-    backend = check.one_of("backend", backend, BACKENDS)
-    if backend == "cpu":
-        return backend
-    if method != "time":
-        raise ValueError("backend='cuda' runs method='time' only; 'steady' runs on the CPU")
-    kernel = time_kernel(model)
-    if kernel == "batched":
-        raise ValueError(
-            "backend='cuda' runs the shared-normal time kernels (a rigid contact or a "
-            f"TangentialSpring); a {type(model.tangential).__name__} runs on the CPU "
-            f"({kernel!r} kernel)"
-        )
-    from microslip.integrators.shared_lanes_cuda import cuda_unavailable
-
-    reason = cuda_unavailable()
-    if reason is not None:
-        raise ValueError(f"backend='cuda': {reason}")
-    return backend
-
-
-def _estimate(
-    model: Model,
-    param_axes,
-    n_forces: int,
-    n_amplitudes: int,
-    method: str,
-    duration: float,
-    dt: float | None,
-    amplitude_chunk: int,
-) -> budget.Estimate:
-    """Work, run time [s] and memory [bytes] from the sizes (no per-point structure)."""
-    n_sets = math.prod(len(values) for _, values in param_axes)
-    lane_steps = setup_steps = 0.0
-    if method == "time":
-        if dt is not None:
-            steps = np.full(1, float(math.ceil(duration / dt))) * n_sets
-        else:  # dt = 1/200 of the period to resolve, per set
-            period = 10.0 ** log_step_period(model, param_axes)
-            steps = np.ceil(duration * DEFAULT_RK4_STEPS_PER_PERIOD / period).ravel()
-        total_steps = float(np.sum(steps))
-        lane_steps = total_steps * n_forces * n_amplitudes
-        # Chunks: full ones of amplitude_chunk amplitudes and the remainder.
-        full, rest = divmod(n_amplitudes, amplitude_chunk)
-        rounds = full * budget.shared_chunk_rounds(amplitude_chunk)
-        if rest:
-            rounds += budget.shared_chunk_rounds(rest)
-        setup_steps = total_steps * rounds
-    values = n_forces + n_amplitudes + sum(len(v) for _, v in param_axes)
-    return budget.estimate_sweep(
-        method=method,
-        n_sets=n_sets,
-        n_forces=n_forces,
-        n_amplitudes=n_amplitudes,
-        lane_steps=lane_steps,
-        setup_steps=setup_steps,
-        chunk_points=n_forces * amplitude_chunk,
-        axis_values=values,
-        kernel=time_kernel(model),
-    )
 
 
 @dataclass(frozen=True)
@@ -198,7 +122,7 @@ class SweepSpec:
         method = check.one_of("method", method, METHODS)
         allowed = {"tangential": TIME_TANGENTIAL} if method == "time" else {}
         require(model, "sweep", allowed=allowed, instead=SWEEP_INSTEAD)
-        backend = _checked_backend(backend, model, method)
+        backend = checked_backend(backend, model, method)
         params = model.params
         forced = model.excitation is not None
         if forced and amplitudes is not None:
@@ -267,7 +191,7 @@ class SweepSpec:
             )
         check_fields(params, arrays)
         check_part_axes(model, arrays)
-        estimate = _estimate(
+        estimate = estimate_work(
             model, arrays, len(forces), len(amplitudes), method, duration, dt, amplitude_chunk
         )
         if allow_large is not None:
@@ -364,7 +288,7 @@ class SweepSpec:
 
     def estimate(self) -> budget.Estimate:
         """Estimated work, run time [s] and memory [bytes] (:mod:`microslip.budget`)."""
-        return _estimate(
+        return estimate_work(
             self.base, self.param_axes, len(self.forces), len(self.amplitudes), self.method,
             self.duration, self.dt, self.amplitude_chunk,
         )  # fmt: skip
