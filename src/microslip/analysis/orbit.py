@@ -226,6 +226,32 @@ def table_state(k, s, ys, yds, ydds, h):
 
 
 @njit(cache=True, inline="always")
+def interval_guess(k, w_y, w_v, gamma, const, ys, yds, ydds, h):
+    """First guess of the root s in [0, 1] of f(s) = w_y y + w_v ẏ + gamma s + const on
+    interval k (f increasing, f(0) <= 0 <= f(1)): the cubic Hermite interpolant of the
+    inverse function s(f) through the node values of f and of df/ds (O(h^4), so Newton
+    from it needs one step fewer than from the linear guess); the linear guess where
+    df/ds is not positive at both ends or the cubic one leaves (0, 1)."""
+    f0 = w_y * ys[k] + w_v * yds[k] + const
+    f1 = w_y * ys[k + 1] + w_v * yds[k + 1] + gamma + const
+    if not f1 > f0:
+        return 0.5
+    u = -f0 / (f1 - f0)  # the linear guess
+    d0 = h * (w_y * yds[k] + w_v * ydds[k]) + gamma
+    d1 = h * (w_y * yds[k + 1] + w_v * ydds[k + 1]) + gamma
+    if not (d0 > 0.0 and d1 > 0.0):
+        return u
+    span = f1 - f0
+    u2 = u * u
+    s = (
+        (u2 * u - 2.0 * u2 + u) * (span / d0)
+        + (3.0 * u2 - 2.0 * u2 * u)
+        + (u2 * u - u2) * (span / d1)
+    )
+    return s if 0.0 < s < 1.0 else u
+
+
+@njit(cache=True, inline="always")
 def interval_root(k, s, s_lo, s_hi, w_y, w_v, gamma, const, tol, ys, yds, ydds, h):
     """Root s in [s_lo, s_hi] of f(s) = w_y y + w_v ẏ + gamma s + const on interval k.
 
@@ -288,8 +314,7 @@ def steady_slip(y_release, accel, mu, ys, yds, ydds, summary):
             hi = mid
     if ys[k_d + 1] <= y_release:  # in the last, partly used interval
         k_d += 1
-    rise = ys[k_d + 1] - ys[k_d]
-    guess = (y_release - ys[k_d]) / rise if rise > 0.0 else 0.5
+    guess = interval_guess(k_d, 1.0, 0.0, 0.0, -y_release, ys, yds, ydds, h)
     s_top = s_half if k_d == last else 1.0
     tol = 1e-15 * (t_flight / h + k_d + 2.0)
     s_d = interval_root(k_d, guess, 0.0, s_top, 1.0, 0.0, 0.0, -y_release, tol, ys, yds, ydds, h)
@@ -315,13 +340,11 @@ def steady_slip(y_release, accel, mu, ys, yds, ydds, summary):
     # f = -ẋ(t_k + s h) in the descent, ẋ(T - t_k - s h) in the rise: increasing in s.
     t_k = t_flight + k * h
     const = -(accel * t_k + base) if descent else accel * (period - t_k) + base
-    f0 = const - mu * yds[k]
-    f1 = const - mu * yds[k + 1] - accel * h
-    guess = f0 / (f0 - f1) if f0 < f1 else 0.5
+    gamma = -accel * h
+    guess = interval_guess(k, 0.0, -mu, gamma, const, ys, yds, ydds, h)
     s_lo = s_d if k == k_d else 0.0
     s_hi = s_half if k == last else 1.0
     tol = 2e-16 * period / h
-    gamma = -accel * h
     s = interval_root(k, guess, s_lo, s_hi, 0.0, -mu, gamma, const, tol, ys, yds, ydds, h)
     y_stop, _yd = table_state(k, s, ys, yds, ydds, h)
     t = t_flight + (k + s) * h
