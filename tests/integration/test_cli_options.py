@@ -167,7 +167,7 @@ def test_unexpected_error_is_one_line_unless_debugging(capsys, monkeypatch):
         raise KeyError("boom")
 
     monkeypatch.setattr(commands, "cmd_info", broken)
-    monkeypatch.setattr("microslip.cli.main.cmd_info", broken)
+    monkeypatch.setattr("microslip.cli.parser.cmd_info", broken)
     monkeypatch.delenv("MICROSLIP_DEBUG", raising=False)
     status, _, err = run(capsys, "info")
     assert_one_line_failure(status, err, "internal error", "KeyError", "please report")

@@ -207,7 +207,7 @@ def test_an_interrupt_swallowed_by_native_code_is_still_reported_as_one(
         callback()  # the interrupt raised inside the callback cannot propagate
         raise RuntimeError("no compiled object yet")
 
-    monkeypatch.setattr("microslip.cli.main.cmd_info", compile_like_numba)
+    monkeypatch.setattr("microslip.cli.parser.cmd_info", compile_like_numba)
     status, _, err = run(capsys, "info")
     word = "terminated" if sig == signal.SIGTERM else "interrupted"
     one_line(status, err, code, word)
@@ -239,7 +239,7 @@ def test_an_interrupt_swallowed_by_a_compile_that_then_succeeds_still_stops_the_
             time.sleep(0.01)
         return 0
 
-    monkeypatch.setattr("microslip.cli.main.cmd_info", compile_then_compute)
+    monkeypatch.setattr("microslip.cli.parser.cmd_info", compile_then_compute)
     started = time.perf_counter()
     status, _, err = run(capsys, "info")
     assert time.perf_counter() - started < 2.0
@@ -283,6 +283,7 @@ def test_the_console_script_leaves_without_freeing_what_an_interrupt_cut_off():
         """
         import ctypes, sys
         import microslip.cli.main as cli
+        import microslip.cli.parser as parser
 
         class CrashesWhenFreed:
             def __del__(self):
@@ -293,7 +294,7 @@ def test_the_console_script_leaves_without_freeing_what_an_interrupt_cut_off():
             held.cycle = held
             raise KeyboardInterrupt
 
-        cli.cmd_info = command
+        parser.cmd_info = command
         sys.argv = ["microslip", "info"]
         cli.entry_point()
         """

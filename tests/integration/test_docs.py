@@ -180,7 +180,7 @@ def test_every_public_name_has_an_api_page(site):
 def test_cli_page_lists_every_command_and_flag(site):
     import argparse
 
-    from microslip.cli.main import build_parser
+    from microslip.cli.parser import build_parser
 
     text = text_of(site["html"] / "cli.html")
     parser = build_parser()

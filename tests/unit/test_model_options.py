@@ -7,9 +7,9 @@ import numpy as np
 import pytest
 
 import microslip as ms
-from microslip.cli.main import build_parser
 from microslip.cli.model_options import kind_name
 from microslip.cli.options import CliError, gather
+from microslip.cli.parser import build_parser
 
 P = ms.Parameters()
 F0 = P.natural_frequency
