@@ -22,14 +22,14 @@ from numba.core import types
 import microslip as ms
 from microslip.integrators import kernel, methods, switching
 from microslip.integrators.batched import simulate_batch
-from microslip.model import switches, system
+from microslip.model import switches, switching_functions, system
 from microslip.model.coefficients import pack
 
 PACKAGE = Path(ms.__file__).resolve().parent
 
 DISPATCHERS = {
-    "switching_value": system.switching_value,
-    "switching_rate": system.switching_rate,
+    "switching_value": switching_functions.switching_value,
+    "switching_rate": switching_functions.switching_rate,
     "apply_switch": switches.apply_switch,
     "_screen": switching._screen,
     "_resolve": switching._resolve,

@@ -61,7 +61,8 @@ from microslip.model.normal import (
     raw_normal_force,
 )
 from microslip.model.switches import apply_switch, initial_mode
-from microslip.model.system import N_STATE, airborne, separation_rate, separation_value
+from microslip.model.switching_functions import separation_rate, separation_value
+from microslip.model.system import N_STATE, airborne
 from microslip.model.tangential import RIGID
 
 # Columns of a tape row.

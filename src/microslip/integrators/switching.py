@@ -35,16 +35,14 @@ from numba import njit
 
 from microslip import _jit_cache  # noqa: F401  (registers the cache before any @njit)
 from microslip.integrators.methods import advance
-from microslip.model.system import (
-    EVENT_NAMES,
-    N_SWITCHES,
+from microslip.model.switching_functions import (
     holds_only_inside,
     inside,
-    state_tuple,
     switch_active,
     switching_rate,
     switching_value,
 )
+from microslip.model.system import EVENT_NAMES, N_SWITCHES, state_tuple
 
 __all__ = [
     "EVENT_NAMES",

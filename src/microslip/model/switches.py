@@ -2,7 +2,8 @@
 layout").
 
 :mod:`microslip.model.system` says *when* the mode or the smoothness of the right-hand
-side changes (its switching functions); this module says *what follows*: the friction
+side changes (with :mod:`microslip.model.switching_functions`); this module says *what
+follows*: the friction
 mode at a state (:func:`initial_mode`, eq. 2.2) and the new mode, the event recorded and
 the state set after a switching function flipped (:func:`apply_switch`). A slider comes
 to rest and sticks or slides on (eq. 2.2); a compliant contact point starts to slip (its
@@ -19,6 +20,7 @@ from microslip.model.coefficients import GRAVITY, MASS
 from microslip.model.drive import drive_force
 from microslip.model.friction import friction_limit, friction_limit_rate, kinetic_coefficient
 from microslip.model.normal import gap
+from microslip.model.switching_functions import separation_value
 from microslip.model.system import (
     AIRBORNE,
     CONTACT_GAP,
@@ -42,7 +44,6 @@ from microslip.model.system import (
     flight_flag,
     normal_force_call,
     normal_force_rate_call,
-    separation_value,
     sign,
     tangential_mode,
 )
