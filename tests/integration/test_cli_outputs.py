@@ -167,7 +167,7 @@ def test_ctrl_c_in_simulate_is_one_line_exit_130_and_no_file(tmp_path):
 def test_second_map_on_the_same_output_stops_at_once(tmp_path):
     out = tmp_path / "map.nc"
     long_map = ["map", "--force", "0.05:0.95:40", "--amplitude", "0:3e-7:150", "--chunk", "1"]
-    # Long enough (~1 min on 2 cores) that the first run is still computing when the
+    # Long enough (~2 min on one core, cold) that the first run is still computing when the
     # second has started and stopped: at duration 1.0 s the shared-normal kernel finished
     # it in a few seconds, and it could end before its SIGINT (exit 0, a CI failure).
     long_map += ["--method", "time", "--duration", "10.0", "--quiet", "--out", str(out)]

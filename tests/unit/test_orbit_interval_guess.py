@@ -20,7 +20,7 @@ def _table(h):
     return t, np.sin(t), np.cos(t), -np.sin(t)
 
 
-def _guess_errors(h, fraction, w_y, w_v, gamma_per_h, root_time):
+def _guess_errors(h, w_y, w_v, gamma_per_h, root_time):
     """(cubic, linear) guess errors [fraction of the interval] for the root at
     t* = ``root_time`` of f = w_y y + w_v ẏ + gamma s + const on the interval holding it."""
     t, ys, yds, ydds = _table(h)
@@ -46,7 +46,7 @@ def test_the_guess_is_fourth_order(kind):
     roots = np.linspace(0.3, 0.8, 101) + 1e-4  # never exactly on a node
 
     def largest(h):
-        errors = [_guess_errors(h, None, w_y, w_v, gamma_per_h, r)[:2] for r in roots]
+        errors = [_guess_errors(h, w_y, w_v, gamma_per_h, r)[:2] for r in roots]
         return np.max(errors, axis=0)
 
     coarse, linear = largest(0.02)
@@ -56,9 +56,7 @@ def test_the_guess_is_fourth_order(kind):
 
 
 def test_newton_from_the_guess_lands_on_the_hermite_root():
-    _, _, (k, gamma, const, ys, yds, ydds, s_true) = _guess_errors(
-        0.01, None, 0.0, -0.3, 0.2, 0.7011
-    )
+    _, _, (k, gamma, const, ys, yds, ydds, s_true) = _guess_errors(0.01, 0.0, -0.3, 0.2, 0.7011)
     guess = interval_guess(k, 0.0, -0.3, gamma, const, ys, yds, ydds, 0.01)
     root = interval_root(k, guess, 0.0, 1.0, 0.0, -0.3, gamma, const, 1e-15, ys, yds, ydds, 0.01)
     assert root == pytest.approx(s_true, abs=1e-9)  # the quintic Hermite's own root
