@@ -170,8 +170,8 @@ def job_forced_time_map(n_forces, n_amplitudes, rows):
 def job_compliant_time_map(tangential, kernel, n_forces, n_amplitudes, rows, scaling=None):
     """A compliant tangential contact, forces x amplitudes, 0.05 s, vs the scalar event
     path: a TangentialSpring on the spring-lane kernel (one normal tape per amplitude,
-    integrators/spring_lanes.py), a MindlinSpring on the batched RK4 kernel (one
-    trajectory per point, simulate(method="rk4") bit for bit)."""
+    integrators/spring_lanes.py), a MindlinSpring on the Mindlin-lane kernel (the same
+    tape, the stiffness following it: integrators/mindlin_lanes.py)."""
     model = ms.Model(PARAMS, tangential=tangential)
     forces = np.linspace(0.05, 0.95, n_forces)
     amps = np.linspace(0.0, 3e-7, n_amplitudes)
@@ -505,7 +505,9 @@ def main(argv=None) -> int:
     )
     log("compliant time map, Mindlin ...")
     mindlin = ms.MindlinSpring(0.8235)
-    job_compliant_time_map(mindlin, "batched RK4", 8 if quick else 32, 2 if quick else 8, rows)
+    job_compliant_time_map(
+        mindlin, "Mindlin lanes", 32 if quick else 256, 8 if quick else 64, rows, scaling
+    )
     log("steady map ...")
     _, peer64 = best_time(
         bvm.numpy_rk4_naive,

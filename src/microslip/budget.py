@@ -76,19 +76,20 @@ STEADY_S_PER_POINT = 0.6e-6
 # ~3x and ~2x (the machine may be loaded).
 SHARED_S_PER_SETUP_STEP = 0.2e-6
 SHARED_S_PER_LANE_STEP = 4e-9
-TAPE_BYTES = 2048 * 15 * 8 + 4096  # one tape buffer per thread (normal_tape.TAPE_ROWS)
-# "time" sweeps of a compliant tangential contact (microslip.integrators.batched): every
-# lane-step is the generic RK4 step with the model's switching, the lanes in blocks over
-# the threads. Measured 2026-11-26, 64 forces x 16 set-ups, 0.02 s, 2 threads: 0.42 us
-# per lane-step per thread (TangentialSpring, free vibration), 1.34 us (MindlinSpring,
-# Viscous + HarmonicForce); rounded up ~3x.
-BATCHED_S_PER_LANE_STEP = 4e-6
+# One tape buffer per thread (normal_tape.TAPE_ROWS x ROW) and a piece vector.
+TAPE_BYTES = 2048 * 21 * 8 + 4096
 # "time" sweeps of a TangentialSpring (microslip.integrators.spring_lanes): the tapes as
 # above, each lane-step the contact point's closed forms. Measured 2026-11-26, 64 forces
 # x 16 amplitudes, 0.05 s, dt = 1/200 of the tangential period, 2 threads: 12 ns per
 # lane-step per thread, switches included (~2 % of the lane-steps are searched, ~0.4 us
 # each); rounded up ~2.5x.
 SPRING_S_PER_LANE_STEP = 3e-8
+# "time" sweeps of a MindlinSpring (microslip.integrators.mindlin_lanes): the same lanes'
+# cost, and per set-up step the tape and the piece's stiffness, stop-function quartics
+# and stick series. Measured 2026-11-26, 8 set-ups x 1 and x 256 forces, 0.05 s, 1
+# thread: 0.38-0.53 us per set-up step, 5-6 ns per lane-step; rounded up ~3x (the lanes
+# as SPRING_S_PER_LANE_STEP).
+MINDLIN_S_PER_SETUP_STEP = 1.5e-6
 
 # DOP853 work per normal period T0 = 1/f0 (accepted + rejected steps + switching
 # instants), the worst of m2 in {1, 1.5, 2, 3}, F/(mu m g) in {-0.5, 0, 0.3, 0.9, 2},
@@ -367,8 +368,8 @@ def estimate_sweep(
     trajectory-steps in all (the work reported); run time from ``setup_steps``, the sum
     over chunks of grid steps x :func:`shared_chunk_rounds` (the tapes, a thread each),
     each round also advancing its ``n_forces`` lanes (``kernel="spring"``: a
-    TangentialSpring's lanes); with ``kernel="batched"`` (a MindlinSpring) from
-    ``lane_steps`` spread over the threads. Memory:
+    TangentialSpring's lanes; ``kernel="mindlin"``: a MindlinSpring's, whose set-up
+    steps cost more). Memory:
     the result
     (``SWEEP_BYTES_PER_POINT`` per point) and the buffers of the chunk of
     ``chunk_points`` points being computed (an in-process run computes one chunk at a
@@ -381,13 +382,10 @@ def estimate_sweep(
         seconds = orbits * STEADY_S_PER_ORBIT + points * STEADY_S_PER_POINT
         buffers = 8 * chunk_points + STEADY_TABLES_HELD * STEADY_BYTES_PER_AMPLITUDE
         work, unit = points, "points"
-    elif kernel == "batched":
-        seconds = lane_steps * BATCHED_S_PER_LANE_STEP / batch_threads()
-        buffers = BATCH_BYTES_PER_LANE * chunk_points
-        work, unit = lane_steps, "trajectory-steps"
     else:
-        lane_cost = SPRING_S_PER_LANE_STEP if kernel == "spring" else SHARED_S_PER_LANE_STEP
-        per_step = SHARED_S_PER_SETUP_STEP + n_forces * lane_cost
+        lane_cost = SHARED_S_PER_LANE_STEP if kernel == "shared" else SPRING_S_PER_LANE_STEP
+        setup_cost = MINDLIN_S_PER_SETUP_STEP if kernel == "mindlin" else SHARED_S_PER_SETUP_STEP
+        per_step = setup_cost + n_forces * lane_cost
         seconds = setup_steps * per_step
         buffers = BATCH_BYTES_PER_LANE * chunk_points + batch_threads() * TAPE_BYTES
         work, unit = lane_steps, "trajectory-steps"

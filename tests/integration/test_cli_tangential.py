@@ -186,15 +186,14 @@ def test_map_with_the_paper_kinds_named_is_the_papers_map(capsys, tmp_path):
 def test_time_sweep_of_a_compliant_contact(capsys, tmp_path, flags, model):
     """--method time takes a compliant contact, from the paper's initial state at the
     step of the faster of the normal and tangential oscillations (k_t = 4 K_n: the
-    tangential one). A spring runs on the spring-lane kernel: x(T)/T agrees with the
-    event method (rtol 1e-12) to 1e-6 of the largest; a Mindlin spring is the rk4 run
-    of simulate at that step, bit for bit (the batched kernel)."""
+    tangential one). A spring runs on the spring-lane kernel, a Mindlin spring on the
+    Mindlin-lane kernel: x(T)/T agrees with the event method (rtol 1e-12) to 1e-6 of
+    the largest."""
     out = tmp_path / "compliant.nc"
     grid = ["--force", "0.2,0.6", "--amplitude", "1e-7,2.5e-7", "--method", "time",
             "--duration", "0.004"]  # fmt: skip
     status, _, err = run(capsys, "sweep", "--tangential", *flags, *grid, "--quiet", "--out", out)
     assert status == 0, err
-    dt = ms.budget.shortest_period(model) / 200
     with xr.open_dataset(out) as ds:
         v = ds["mean_velocity"]
         assert ds.attrs["tangential"] == type(model.tangential).__name__
@@ -203,14 +202,9 @@ def test_time_sweep_of_a_compliant_contact(capsys, tmp_path, flags, model):
         for force in (0.2, 0.6):
             for amplitude in (1e-7, 2.5e-7):
                 value = float(v.sel(force=force, amplitude=amplitude))
-                if isinstance(model.tangential, ms.TangentialSpring):
-                    r = ms.simulate(model, force=force, amplitude=amplitude, duration=0.004,
-                                    rtol=1e-12)  # fmt: skip
-                    assert abs(value - r.x[-1] / 0.004) <= 1e-6 * scale
-                else:
-                    r = ms.simulate(model, force=force, amplitude=amplitude, duration=0.004,
-                                    method="rk4", dt=dt)  # fmt: skip
-                    assert value == r.x[-1] / 0.004
+                r = ms.simulate(model, force=force, amplitude=amplitude, duration=0.004,
+                                rtol=1e-12)  # fmt: skip
+                assert abs(value - r.x[-1] / 0.004) <= 1e-6 * scale
 
 
 def test_info_shows_the_tangential_parts_with_units(capsys):

@@ -205,7 +205,7 @@ TIME = dict(forces=[0.3, 0.6], amplitudes=[1e-7], method="time", duration=0.001)
         (None, dict(TIME, method="steady", duration=None, backend="cuda"),
          ["backend='cuda' runs method='time' only"]),
         (ms.Model(tangential=ms.MindlinSpring(0.8)), dict(TIME, backend="cuda"),
-         ["MindlinSpring runs on the CPU", "'batched' kernel"]),
+         ["MindlinSpring runs on the CPU", "'mindlin' kernel"]),
         (ms.Model(drive=ms.PrescribedVelocity(1e-4)), dict(backend="cuda"),
          ["does not apply to an effective-friction sweep"]),
     ],

@@ -2,7 +2,9 @@
 
 ``sweep(method="time")`` runs a TangentialSpring model on the spring-lane kernel (one
 normal tape per set-up, the contact point in closed form per piece:
-integrators/spring_lanes.py) and a MindlinSpring model on the batched RK4 kernel. Each
+integrators/spring_lanes.py) and a MindlinSpring model on the Mindlin-lane kernel (the
+same tape; the contact point's stick through a fundamental series on the piece's
+stiffness quartic: integrators/mindlin_lanes.py). Each
 point is checked against ``simulate(method="event")`` at rtol 1e-12, an integration with
 adaptive steps and located events that shares none of the fixed-step paths: x(T)/T must
 agree to the RK4 error at the default step, 1/200 of the shortest period of the model

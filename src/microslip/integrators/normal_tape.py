@@ -22,7 +22,9 @@ flight has P = 0. The row also holds the exact integrals I(1) = ∫₀¹ P and
 K(1) = ∫₀¹ (1 - τ) P, the exact extremes of P on [0, 1], and its critical points (the
 roots of P', at most three), which split the piece into segments where P is monotone:
 the lanes' located switching (:mod:`microslip.integrators.shared_lanes`) brackets every
-root on those segments, so no double crossing can hide inside a piece.
+root on those segments, so no double crossing can hide inside a piece. The row ends with
+the normal state (y, ẏ, ÿ) at both ends, for a law that depends on more than N (the
+Mindlin stiffness k_t(δ): :func:`~microslip.integrators.mindlin_lane_law.hermite_state`).
 
 Nothing here knows about the lanes: the tape is the normal force N(t) [N] of one
 normal set-up.
@@ -67,7 +69,10 @@ from microslip.model.tangential import RIGID
 
 # Columns of a tape row.
 T0, H, A0, A1, A2, A3, A4, INT1, KINT1, PMIN, PMAX, NCRIT, CRIT1, CRIT2, CRIT3 = range(15)
-ROW = 15
+# The normal state (y [m], ẏ [m/s], ÿ [m/s^2]) at both ends of the piece: a law that needs
+# more of the normal motion than N (a Mindlin stiffness, k_t(δ)) interpolates it inside.
+Y_START, YDOT_START, YDDOT_START, Y_END, YDOT_END, YDDOT_END = range(15, 21)
+ROW = 21
 
 _BISECTIONS = 60  # halvings of a bracket of P' (2^-60 < 1e-18 of a piece)
 TAPE_ROWS = 2048  # pieces a lane kernel takes per call of fill_tape (bounded memory)
@@ -386,6 +391,8 @@ def fill_tape(carry, c_array, t_end, dt, tape, work):
         tape[rows, CRIT1] = tau1
         tape[rows, CRIT2] = tau2
         tape[rows, CRIT3] = tau3
+        tape[rows, Y_START], tape[rows, YDOT_START], tape[rows, YDDOT_START] = y, v, ends0[0]
+        tape[rows, Y_END], tape[rows, YDOT_END], tape[rows, YDDOT_END] = y1, v1, ends1[0]
         rows += 1
         t, y, v, ends0 = t1, y1, v1, ends1
     carry[C_T], carry[C_Y], carry[C_YDOT], carry[C_K], carry[C_MODE] = t, y, v, k, mode

@@ -58,7 +58,7 @@ _ROUNDING = 1e-15  # relative rounding of a switching function (a few ulps of it
 
 
 @njit(cache=True, inline="always")
-def _rate2(a, tau):
+def rate2(a, tau):
     """d²P/dτ² [N]."""
     return 2.0 * a[2] + tau * (6.0 * a[3] + tau * 12.0 * a[4])
 
@@ -98,14 +98,14 @@ def _value(kind, a, p, tau):
         spring_2 = -theta * theta * (e_a * cd + b_a * sd)
         limit = mu_s * nt.poly(a, tau)
         limit_1 = mu_s * nt.poly_rate(a, tau)
-        limit_2 = mu_s * _rate2(a, tau)
+        limit_2 = mu_s * rate2(a, tau)
         return (
             limit - spring, limit_1 - spring_1, limit_2 - spring_2,
             limit + spring, limit_1 + spring_1, limit_2 + spring_2,
         )  # fmt: skip
     h, v_a, s, fm, km, q = p[1], p[2], p[3], p[4], p[5], p[6]
     value = _slip_speed(a, h, tau_a, v_a, s, fm, km, tau) - q * nt.poly_rate(a, tau)
-    rate = h * (s * fm - km * nt.poly(a, tau)) - q * _rate2(a, tau)
+    rate = h * (s * fm - km * nt.poly(a, tau)) - q * rate2(a, tau)
     curvature = -h * km * nt.poly_rate(a, tau) - q * (6.0 * a[3] + 24.0 * a[4] * tau)
     return value, rate, curvature, value, rate, curvature
 
@@ -117,7 +117,7 @@ def _inside(kind, value):
 
 
 @njit(cache=True, inline="always")
-def _safe_step(g, r, c, bound2, bound3):
+def safe_step(g, r, c, bound2, bound3):
     """A distance s > 0 within which a function of value g > 0 (or g = 0 rising), slope
     r and curvature c has no root, given |g''| <= bound2 and |g'''| <= bound3 on the
     piece: the larger of two proofs.
@@ -147,7 +147,7 @@ def _first_exit(kind, a, p, bound2, bound3, noise, lo, hi):
     ``bound3`` >= |d²g/dτ²|, |d³g/dτ³| on the piece; ``noise`` [units of g] the
     rounding of g.
 
-    It marches by safe steps (:func:`_safe_step`), so no crossing is skipped: near a
+    It marches by safe steps (:func:`safe_step`), so no crossing is skipped: near a
     simple root the steps are Newton's from the inside (quadratic). Both the test and
     the steps take g as g + noise: a dip below zero no deeper than the rounding is not a
     crossing, and a tangency within the rounding (a stick whose force returns exactly to
@@ -163,8 +163,8 @@ def _first_exit(kind, a, p, bound2, bound3, noise, lo, hi):
         if not _inside(kind, min(g1, g2) + noise):
             return tau
         step = min(
-            _safe_step(g1 + noise, r1, c1, bound2, bound3),
-            _safe_step(g2 + noise, r2, c2, bound2, bound3),
+            safe_step(g1 + noise, r1, c1, bound2, bound3),
+            safe_step(g2 + noise, r2, c2, bound2, bound3),
         )
         step = max(step, 0.5 * _TAU_TOLERANCE)
         tau += step
@@ -192,7 +192,7 @@ def _stick_at(tau_a, x, v, f, force, omega, k_t, mass, theta, tau):
 
 
 @njit(cache=True, inline="always")
-def _touchdown(a, h, k_t, mass, gravity, mu_s, mu_k, v):
+def touchdown(a, h, k_t, mass, gravity, mu_s, mu_k, v):
     """(mode, f [N]) of a lane landing with a relaxed spring at the start of the piece:
     stick, unless the touchdown grazes (μ_s N <= GRAZING m g) with ẋ != 0 and the spring
     loads faster than the limit rises (μ_s dN/dt < k_t |ẋ|): slip with ẋ on f = μ_k N."""
@@ -238,7 +238,7 @@ def lane_piece(a, piece, force, fm, km, mu_s, mu_k, x, v, f, mode):
     for _ in range(MAX_SWITCHES_PER_STEP):
         if abs(mode) == FLIGHT:
             if tau == 0.0:  # landing at the piece start
-                mode, f = _touchdown(a, h, k_t, mass, piece[P_GRAVITY], mu_s, mu_k, v)
+                mode, f = touchdown(a, h, k_t, mass, piece[P_GRAVITY], mu_s, mu_k, v)
                 switches += 1
                 continue
             # Lifted off inside the piece (N reached 0 at a switch): fly to its end.

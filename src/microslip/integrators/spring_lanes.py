@@ -144,7 +144,7 @@ def _vector_pass(lanes, n, a, piece, h_int, h2_kint):
 
 
 @njit(cache=True, error_model="numpy")
-def _flight_pass(lanes, n, h):
+def flight_pass(lanes, n, h):
     """A piece in flight for every lane (:func:`flight_step`)."""
     for i in range(n):
         lanes[X, i], lanes[V, i] = flight_step(lanes[X, i], lanes[V, i], lanes[FM, i], h)
@@ -174,7 +174,7 @@ def _run_group(c, y0, ydot0, k_t, t_end, dt, lanes, switches, flagged):
                     for i in range(n):
                         lanes[MODE, i], lanes[FS, i] = FLIGHT, 0.0
                 flying = True
-                _flight_pass(lanes, n, h)
+                flight_pass(lanes, n, h)
                 continue
             flying = False  # a lane that lands is flagged: the piece applies the touchdown
             set_piece(piece, a, h)
@@ -255,17 +255,20 @@ def run_spring_lanes(normal_coeffs, normal_states0, stiffness, group_of_lane, fo
     return lanes[X], lanes[V], lanes[FS], lanes[MODE], switches, flagged
 
 
-def pack_lanes(normal_coeffs, stiffness, group_of_lane, forces, mu_static, mu_kinetic):
+def pack_lanes(normal_coeffs, stiffness, group_of_lane, forces, mu_static, mu_kinetic,
+               what="stiffness"):  # fmt: skip
     """(lanes, starts, stiffness): the lane array (rows FORCE ... FLAG) of
     :func:`run_spring_lanes`'s lanes at rest, ``starts`` (G + 1,) the first lane of each
-    set-up, and the stiffness [N/m] as an array; ValueError for lanes out of set-up
-    order or a stiffness <= 0."""
+    set-up, and the set-ups' spring parameter (k_t [N/m], or the Mindlin ratio λ [-] with
+    ``what="ratio"``) as an array; ValueError for lanes out of set-up order or a
+    parameter <= 0."""
     stiffness = np.asarray(stiffness, dtype=np.float64)
     group_of_lane = np.asarray(group_of_lane, dtype=np.int64)
     if np.any(np.diff(group_of_lane) < 0):
         raise ValueError("group_of_lane must be non-decreasing (lanes by set-up)")
     if not np.all(stiffness > 0.0):
-        raise ValueError(f"stiffness must be > 0 N/m; got {stiffness.min()!r}")
+        unit = " N/m" if what == "stiffness" else ""
+        raise ValueError(f"{what} must be > 0{unit}; got {float(stiffness.min())!r}")
     n_lanes = group_of_lane.size
     counts = np.bincount(group_of_lane, minlength=normal_coeffs.shape[0])
     starts = np.concatenate([[0], np.cumsum(counts)]).astype(np.int64)

@@ -17,13 +17,12 @@ def compute_chunk(spec: SweepSpec, key: ChunkKey) -> np.ndarray:
     "steady": the exact long-time mean (inf where F > μ m g). "time": x(T)/T after a
     run of duration T from the paper's initial state (rest at the top), by a
     shared-normal kernel (:mod:`microslip.integrators.shared_lanes`, or
-    :mod:`microslip.integrators.spring_lanes` for a TangentialSpring): one RK4 normal
+    :mod:`microslip.integrators.spring_lanes` for a TangentialSpring,
+    :mod:`microslip.integrators.mindlin_lanes` for a MindlinSpring): one RK4 normal
     motion per amplitude, shared by every force.
     Each point is computed independently of the chunking, so results are bit-identical
     however the sweep is split or distributed.
     """
-    if spec.method == "time" and time_kernel(spec.base) == "batched":
-        return compliant_time_chunk(spec, key)
     if spec.forced:
         return forced_chunk(spec, key)
     if spec.base.damping is not None and spec.method == "steady":
@@ -47,7 +46,7 @@ def compute_chunk(spec: SweepSpec, key: ChunkKey) -> np.ndarray:
 def shares_runs(spec: SweepSpec) -> bool:
     """True when :func:`compute_chunks` computes several chunks in one run: a forced
     model's time chunks on a shared-normal kernel, one normal set-up each."""
-    return spec.forced and spec.method == "time" and time_kernel(spec.base) != "batched"
+    return spec.forced and spec.method == "time"
 
 
 def compute_chunks(spec: SweepSpec, keys: list[ChunkKey]) -> list[np.ndarray]:
@@ -129,35 +128,12 @@ def forced_chunk(spec: SweepSpec, key: ChunkKey) -> np.ndarray:
     return mean_velocities(table, model.params.mu, forces)[:, None]
 
 
-def compliant_time_chunk(spec: SweepSpec, key: ChunkKey) -> np.ndarray:
-    """x(T)/T [m/s] on the chunk's block for a Mindlin tangential contact, shape
-    (forces, amplitudes of the chunk; one for a forced model).
-
-    The shared-normal kernels have no lane law for a spring whose stiffness follows the
-    normal deflection, so every (force, amplitude) is a trajectory of the batched RK4
-    kernel
-    (:func:`microslip.integrators.batched.simulate_batch`: ``simulate(method="rk4")``
-    bit for bit), from the initial state of ``simulate``: the paper's rest at the top
-    (free vibration) or rest at y0 (forced), a relaxed spring.
-    """
-    model = spec.model_at(key)
-    forces = np.asarray(spec.forces, dtype=float)
-    if spec.forced:
-        result = _batched_run(spec, model, forces, spec.duration)  # from rest at y0
-        return result.mean_velocity[:, None]
-    amplitudes = spec.amplitudes[spec.amplitude_slice(key)]
-    starts = [initial_state_from_amplitude(model.params, a) for a in amplitudes]
-    states0 = np.repeat(np.array(starts), forces.size, axis=0)  # amplitude-major, then force
-    lanes = np.tile(forces, len(starts))
-    result = _batched_run(spec, model, lanes, spec.duration, states0=states0)
-    return result.mean_velocity.reshape(len(starts), forces.size).T
-
-
 def _shared_run(models, normal0, forces, duration, dt, backend="cpu") -> np.ndarray:
     """x(duration) [m], shape (set-ups, forces), from rest on each normal set-up (one
     model per row of ``normal0``: y [m], ẏ [m/s] at t = 0) under every constant force
-    [N], on the shared-normal kernel of the models' tangential contact (all rigid or all
-    springs of constant stiffness, a relaxed spring at t = 0); ``backend`` "cuda" runs
+    [N], on the shared-normal kernel of the models' tangential contact (all rigid, all
+    springs of constant stiffness or all Mindlin springs; a relaxed spring at t = 0);
+    ``backend`` "cuda" runs
     the lanes on a GPU (:mod:`~microslip.integrators.shared_lanes_cuda`,
     :mod:`~microslip.integrators.spring_lanes_cuda`)."""
     from microslip.integrators.normal_tape import normal_coefficients
@@ -171,7 +147,12 @@ def _shared_run(models, normal0, forces, duration, dt, backend="cpu") -> np.ndar
     groups = np.repeat(np.arange(n_setups), forces.size)
     lane_forces = np.tile(forces, n_setups)
     mu = np.repeat([model.params.mu for model in models], forces.size)
-    if models[0].is_compliant:
+    if time_kernel(models[0]) == "mindlin":
+        from microslip.integrators.mindlin_lanes import run_mindlin_lanes
+
+        ratio = [model.tangential.ratio for model in models]
+        x = run_mindlin_lanes(coeffs, normal0, ratio, groups, lane_forces, mu, mu, duration, dt)[0]
+    elif models[0].is_compliant:
         stiffness = [model.tangential.stiffness for model in models]
         if backend == "cuda":
             from microslip.integrators.spring_lanes_cuda import run_spring_lanes_cuda as run

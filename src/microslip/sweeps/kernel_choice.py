@@ -29,7 +29,7 @@ __all__ = [
 
 BACKENDS = ("cpu", "cuda")  # where the shared-normal time kernel runs
 CUDA_CHUNK_LANES = 2**18  # default lanes per chunk on a GPU (it needs many to be busy)
-# The tangential contacts of a time sweep (a Mindlin one runs on the batched kernel).
+# The tangential contacts of a time sweep.
 TIME_TANGENTIAL = (None, TangentialSpring, MindlinSpring)
 SWEEP_INSTEAD = (
     f"{TANGENTIAL_INSTEAD}; method='time' also takes a compliant tangential contact "
@@ -39,10 +39,12 @@ SWEEP_INSTEAD = (
 
 def time_kernel(model: Model) -> str:
     """The kernel of a time sweep of ``model`` (:func:`microslip.budget.estimate_sweep`):
-    "shared" (rigid contact), "spring" (TangentialSpring) or "batched" (MindlinSpring)."""
+    "shared" (rigid contact), "spring" (TangentialSpring) or "mindlin" (MindlinSpring),
+    each a shared-normal kernel (:mod:`microslip.integrators.shared_lanes`,
+    :mod:`~microslip.integrators.spring_lanes`, :mod:`~microslip.integrators.mindlin_lanes`)."""
     if not model.is_compliant:
         return "shared"
-    return "spring" if isinstance(model.tangential, TangentialSpring) else "batched"
+    return "spring" if isinstance(model.tangential, TangentialSpring) else "mindlin"
 
 
 def checked_backend(backend: Any, model: Model, method: str) -> str:
@@ -53,11 +55,10 @@ def checked_backend(backend: Any, model: Model, method: str) -> str:
     if method != "time":
         raise ValueError("backend='cuda' runs method='time' only; 'steady' runs on the CPU")
     kernel = time_kernel(model)
-    if kernel == "batched":
+    if kernel == "mindlin":
         raise ValueError(
-            "backend='cuda' runs the shared-normal time kernels (a rigid contact or a "
-            f"TangentialSpring); a {type(model.tangential).__name__} runs on the CPU "
-            f"({kernel!r} kernel)"
+            "backend='cuda' runs the time kernels of a rigid contact or a TangentialSpring; "
+            f"a {type(model.tangential).__name__} runs on the CPU ({kernel!r} kernel)"
         )
     from microslip.integrators.shared_lanes_cuda import cuda_unavailable
 

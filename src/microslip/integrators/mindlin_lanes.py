@@ -1,0 +1,208 @@
+"""Many compliant tangential lanes of Mindlin stiffness on one shared normal motion: the
+time-domain map kernel of a contact point on a spring k_t = λ dN_el/dδ
+(``MindlinSpring``).
+
+The structure of :mod:`microslip.integrators.spring_lanes`: the normal motion once per
+set-up (the tape of :mod:`microslip.integrators.normal_tape`), then per contact piece a
+branch-free pass over the lanes that advances each as if the piece held no switch and
+bounds its switching function, and the law of
+:mod:`microslip.integrators.mindlin_lane_law` for the lanes it flags. What a piece's
+lanes share (the quartics k_t(τ), R(τ) = Ṅ/k_t and the stick's fundamental matrix Φ)
+is computed once per piece (:func:`~microslip.integrators.mindlin_lane_law.set_piece`),
+so a stuck lane costs a 2x2 matrix product and a sliding one the rigid law.
+
+A lane's arithmetic depends only on its own parameters and its set-up's tape (no
+fastmath): the same bits whatever the other lanes, their order or the threads.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numba import njit, parallel_chunksize, prange
+
+from microslip import _jit_cache  # noqa: F401  (registers the cache before any @njit)
+from microslip.integrators import mindlin_lane_law as law
+from microslip.integrators import normal_tape as nt
+from microslip.integrators.shared_lanes import LANE_STALLED, OK, raise_on_failure
+from microslip.integrators.spring_lane_law import FLIGHT
+from microslip.integrators.spring_lanes import (
+    FLAG,
+    FM,
+    FORCE,
+    FS,
+    KM,
+    MODE,
+    MU_K,
+    MU_S,
+    V,
+    X,
+    flight_pass,
+    flight_piece,
+    pack_lanes,
+    starts_in_flight,
+)
+from microslip.model.coefficients import GRAVITY, MASS
+
+STEP_TOO_COARSE = 7  # a set-up's status: θ = h sqrt(k_t/m) > MAX_THETA on a piece
+
+
+@njit(cache=True, inline="always", error_model="numpy")
+def free_piece(piece, p0, p1, s, xi, vi, fi, force, fm, km, mu_s, mu_k, h_int, h2_kint):
+    """(flag, x1, ẋ1, f1) of a lane over a contact piece as if it held no switch (Φ in
+    stick, the rigid law in slip); ``flag`` where its switching function may reach its
+    boundary inside (g >= min(g(0), g(1)) - max|g''|/8) or it lands here. Branch-free.
+    ``p0``, ``p1`` = P(0), P(1) [N]; ``h_int`` = h I(1), ``h2_kint`` = h² K(1)."""
+    h = piece[law.M_H]
+    # Stick: (ẋ, e) through Φ(1), x through ∫ẋ.
+    e0 = fi - force
+    x_st = xi + piece[law.M_PSI1] * vi + piece[law.M_PSI2] * e0
+    v_st = piece[law.M_PHI11] * vi + piece[law.M_PHI12] * e0
+    f_st = force + piece[law.M_PHI21] * vi + piece[law.M_PHI22] * e0
+    margin = min(mu_s * p0 - abs(fi), mu_s * p1 - abs(f_st))
+    curvature = mu_s * piece[law.M_D2] + abs(vi) * piece[law.M_E1_2] + abs(e0) * piece[law.M_E2_2]
+    stick_low = margin - 0.125 * curvature
+    # Slip: the rigid law; its stop function s u̇ = s ẋ - μ_k R at the ends.
+    skm = s * km
+    v_sl = vi + (h * fm - skm * h_int)
+    x_sl = xi + (h * vi + 0.5 * h * h * fm - skm * h2_kint)
+    r = piece[law.M_R : law.M_R + 5]
+    g_ends = min(s * vi - mu_k * r[0], s * v_sl - mu_k * (r[0] + r[1] + r[2] + r[3] + r[4]))
+    slip_low = g_ends - 0.125 * (km * h * piece[law.M_D1] + mu_k * piece[law.M_R_2])
+    stick = s == 0.0
+    landing = s * s > 1.5
+    flag = (stick & (stick_low <= 0.0)) | ((s != 0.0) & (slip_low <= 0.0)) | landing
+    x1 = x_st if stick else x_sl
+    v1 = v_st if stick else v_sl
+    f1 = f_st if stick else s * mu_k * p1
+    return flag, x1, v1, f1
+
+
+@njit(cache=True, error_model="numpy")
+def _vector_pass(lanes, n, a, piece, h_int, h2_kint):
+    """A contact piece for every lane as if it held no switch (:func:`free_piece`); a
+    flagged lane keeps its state. Returns the number flagged."""
+    p0, p1 = a[0], nt.poly(a, 1.0)
+    n_flagged = 0
+    for i in range(n):
+        xi, vi, fi = lanes[X, i], lanes[V, i], lanes[FS, i]
+        flag, x1, v1, f1 = free_piece(
+            piece, p0, p1, lanes[MODE, i], xi, vi, fi, lanes[FORCE, i], lanes[FM, i],
+            lanes[KM, i], lanes[MU_S, i], lanes[MU_K, i], h_int, h2_kint,
+        )  # fmt: skip
+        lanes[FLAG, i] = 1.0 if flag else 0.0
+        lanes[X, i] = xi if flag else x1
+        lanes[V, i] = vi if flag else v1
+        lanes[FS, i] = fi if flag else f1
+        n_flagged += 1 if flag else 0
+    return n_flagged
+
+
+@njit(cache=True)
+def _run_group(c, y0, ydot0, ratio, t_end, dt, lanes, switches, flagged):
+    """One normal set-up and its lanes, in place; returns the status."""
+    n = lanes.shape[1]
+    piece = np.zeros(law.PIECE)
+    law.set_setup(piece, c[MASS], c[GRAVITY], ratio)
+    flying = starts_in_flight(c, y0, ydot0)
+    for i in range(n):
+        lanes[MODE, i] = FLIGHT if flying else 0.0
+    carry, tape, work = nt.tape_buffers(y0, ydot0)
+    while True:
+        rows, tape_status = nt.fill_tape(carry, c, t_end, dt, tape, work)
+        if tape_status > 1:
+            return tape_status
+        for r in range(rows):
+            h = tape[r, nt.H]
+            a = nt.coefficients(tape, r)
+            if flight_piece(a):
+                if not flying:  # lift-off: the spring relaxes (f = 0, u = x)
+                    for i in range(n):
+                        lanes[MODE, i], lanes[FS, i] = FLIGHT, 0.0
+                flying = True
+                flight_pass(lanes, n, h)
+                continue
+            flying = False
+            if law.set_piece(piece, a, tape, r, c) != 0:
+                return STEP_TOO_COARSE
+            n_flagged = _vector_pass(
+                lanes, n, a, piece, h * tape[r, nt.INT1], h * h * tape[r, nt.KINT1]
+            )
+            for i in range(n):
+                if n_flagged == 0:
+                    break
+                if lanes[FLAG, i] != 0.0:
+                    n_flagged -= 1
+                    flagged[i] += 1
+                    xi, vi, fi, mi, k = law.lane_piece(
+                        a, piece, lanes[FORCE, i], lanes[FM, i], lanes[KM, i],
+                        lanes[MU_S, i], lanes[MU_K, i], lanes[X, i], lanes[V, i],
+                        lanes[FS, i], lanes[MODE, i],
+                    )  # fmt: skip
+                    if k < 0:
+                        return LANE_STALLED
+                    switches[i] += k
+                    lanes[X, i], lanes[V, i], lanes[FS, i], lanes[MODE, i] = xi, vi, fi, mi
+        if tape_status == 0:
+            return OK
+
+
+@njit(cache=True, parallel=True)
+def _run_groups(normal_c, y0, ydot0, ratio, starts, lanes, switches, flagged, status, t_end,
+                dt):  # fmt: skip
+    for g in prange(normal_c.shape[0]):
+        lo, hi = starts[g], starts[g + 1]
+        group_lanes = np.ascontiguousarray(lanes[:, lo:hi])
+        group_switches = np.zeros(hi - lo, dtype=np.int64)
+        group_flagged = np.zeros(hi - lo, dtype=np.int64)
+        status[g] = _run_group(
+            normal_c[g].copy(), y0[g], ydot0[g], ratio[g], t_end, dt, group_lanes,
+            group_switches, group_flagged,
+        )  # fmt: skip
+        lanes[:, lo:hi] = group_lanes
+        switches[lo:hi] = group_switches
+        flagged[lo:hi] = group_flagged
+
+
+def run_mindlin_lanes(normal_coeffs, normal_states0, ratio, group_of_lane, forces, mu_static,
+                      mu_kinetic, t_end, dt):  # fmt: skip
+    """Final states of many compliant lanes of Mindlin stiffness on shared normal
+    motions, each from rest with a relaxed spring (SI).
+
+    Parameters
+    ----------
+    normal_coeffs : (G, SIZE) coefficient vectors of the G normal set-ups
+        (:func:`normal_tape.normal_coefficients`).
+    normal_states0 : (G, 2) initial (y [m], ẏ [m/s]) of each set-up at t = 0.
+    ratio : (G,) Mindlin ratio λ [-] of k_t = λ dN_el/dδ of each set-up (> 0).
+    group_of_lane : (L,) int, the set-up of each lane, non-decreasing.
+    forces : (L,) constant tangential force F [N]; mu_static, mu_kinetic : (L,) [-].
+    t_end : end time [s]; dt : RK4 step of the normal motion [s] (grid k·dt).
+
+    Returns (x [m], ẋ [m/s], f [N], mode, switches, flagged) per lane at ``t_end``
+    (mode 0 stick, ±1 slip, 2 flight). ValueError when dt is too coarse for the
+    tangential oscillation (h sqrt(k_t/m) > 2 on a piece); RuntimeError if a normal
+    integration or a lane fails.
+    """
+    normal_coeffs = np.ascontiguousarray(normal_coeffs, dtype=np.float64)
+    states0 = np.asarray(normal_states0, dtype=np.float64)
+    lanes, starts, ratio = pack_lanes(
+        normal_coeffs, ratio, group_of_lane, forces, mu_static, mu_kinetic, what="ratio"
+    )
+    n_groups = normal_coeffs.shape[0]
+    n_lanes = lanes.shape[1]
+    switches = np.zeros(n_lanes, dtype=np.int64)
+    flagged = np.zeros(n_lanes, dtype=np.int64)
+    status = np.zeros(n_groups, dtype=np.int64)
+    with parallel_chunksize(1):
+        _run_groups(
+            normal_coeffs, states0[:, 0].copy(), states0[:, 1].copy(), ratio, starts, lanes,
+            switches, flagged, status, float(t_end), float(dt),
+        )  # fmt: skip
+    coarse = np.flatnonzero(status == STEP_TOO_COARSE)
+    if coarse.size:
+        raise ValueError(
+            f"dt = {dt!r} s is too coarse for the Mindlin tangential oscillation of set-up "
+            f"{int(coarse[0])} (h sqrt(k_t/m) > {law.MAX_THETA} on a piece): use a smaller dt"
+        )
+    raise_on_failure(status, "Mindlin-lane kernel")
+    return lanes[X], lanes[V], lanes[FS], lanes[MODE], switches, flagged

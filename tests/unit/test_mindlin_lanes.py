@@ -1,0 +1,207 @@
+"""The Mindlin-lane kernel (integrators/mindlin_lanes.py, mindlin_lane_law.py): its
+per-piece stiffness and fundamental series against closed forms and a separate scipy
+integration, the kernel at constant N (where k_t = λ K_n is constant and the contact
+point has the closed forms of a spring), its determinism and its input checks.
+
+At rest in the static deflection (A = 0) N = m g and k_t = λ dN/dδ(y0) = λ K_n
+throughout: from rest with a relaxed spring x = (F/k_t)(1 - cos ωt), ω = sqrt(k_t/m);
+above μ_s N/2 the point releases at f = μ_s N, slides with f = μ_k N, stops and sticks
+(tests/unit/test_spring_lanes.py derives the same closed forms).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+from scipy.integrate import solve_ivp
+
+import microslip as ms
+from microslip.integrators import mindlin_lane_law as law
+from microslip.integrators import normal_tape as nt
+from microslip.integrators.mindlin_lanes import run_mindlin_lanes
+from microslip.integrators.normal_tape import normal_coefficients
+from microslip.simulation import initial_state_from_amplitude
+
+P = ms.Parameters()
+RATIO = 0.8235
+K_T = RATIO * P.contact_stiffness
+OMEGA = math.sqrt(K_T / P.mass)
+N = P.mass * P.g
+DT = 2.0 * math.pi / OMEGA / 200.0
+C = normal_coefficients(ms.Model(P, tangential=ms.MindlinSpring(RATIO)).pack(0.0))
+
+
+def _run(forces, amplitudes, duration, mu_s=P.mu, mu_k=P.mu, dt=DT):
+    """x(duration) [m] per lane, amplitude-major then force, and the switch counts."""
+    normal0 = np.array([initial_state_from_amplitude(P, a)[:2] for a in amplitudes])
+    coeffs = np.repeat(C[None], len(amplitudes), axis=0)
+    groups = np.repeat(np.arange(len(amplitudes)), len(forces))
+    out = run_mindlin_lanes(coeffs, normal0, [RATIO] * len(amplitudes), groups,
+                            np.tile(forces, len(amplitudes)), mu_s, mu_k, duration, dt)  # fmt: skip
+    return out[0], out[4]
+
+
+def _piece(amplitude, t0, h):
+    """A tape row of the free normal vibration of amplitude A [m] from t0 [s] over h [s]
+    (its end states from the closed-form-free RK4 of scipy at rtol 1e-13), and the
+    piece vector written from it."""
+    y0, v0 = initial_state_from_amplitude(P, amplitude)[:2]
+
+    def rhs(t, z):
+        delta = max(z[0], 0.0)
+        return [z[1], P.g - P.stiffness_coefficient * delta**P.m2 / P.mass]
+
+    sol = solve_ivp(rhs, (0.0, t0 + h), [y0, v0], method="DOP853", rtol=1e-13, atol=1e-20,
+                    dense_output=True)  # fmt: skip
+    tape = np.zeros((1, nt.ROW))
+    tape[0, nt.T0], tape[0, nt.H] = t0, h
+    for col_y, col_v, col_a, t in ((nt.Y_START, nt.YDOT_START, nt.YDDOT_START, t0),
+                                   (nt.Y_END, nt.YDOT_END, nt.YDDOT_END, t0 + h)):  # fmt: skip
+        y, v = sol.sol(t)
+        tape[0, col_y], tape[0, col_v], tape[0, col_a] = y, v, rhs(t, [y, v])[1]
+    piece = np.zeros(law.PIECE)
+    law.set_setup(piece, P.mass, P.g, RATIO)
+    a = (N, 0.0, 0.0, 0.0, 0.0)
+    assert law.set_piece(piece, a, tape, 0, C) == 0
+    return piece, sol
+
+
+def test_stiffness_quartic_follows_the_mindlin_stiffness_inside_a_piece():
+    """k_t(τ) against λ dN/dδ = λ m2 c δ^(m2-1) on the exact normal motion (scipy) at 21
+    points of a piece of the default step: within 1e-9 relative (O(h⁵); a wrong node,
+    fit or Hermite state gives 1e-3 or worse)."""
+    h = P.natural_period / 200.0
+    piece, sol = _piece(0.8 * P.static_deflection, 0.37 * P.natural_period, h)
+    for tau in np.linspace(0.0, 1.0, 21):
+        delta = sol.sol(0.37 * P.natural_period + tau * h)[0]
+        exact = RATIO * P.m2 * P.stiffness_coefficient * delta ** (P.m2 - 1.0)
+        fitted = law._quartic(piece, law.M_K, tau)[0]
+        assert fitted == pytest.approx(exact, rel=1e-9)
+
+
+def test_fundamental_series_at_constant_stiffness_is_the_oscillator():
+    """At rest (k_t = λ K_n constant): (ẋ, e) rotate at ω, x = x0 + (ẋ0/ω) sin d +
+    (e0/k_t)(cos d - 1), d = ω h τ; to 1e-13 of the state's scale."""
+    h = 7.0 * DT  # θ ≈ 0.22: more series terms than the default step needs
+    piece, _ = _piece(0.0, 0.0, h)
+    x0, v0, e0 = 1e-9, 2e-4, -0.3
+    for tau in (0.0, 0.25, 0.6, 1.0):
+        d = OMEGA * h * tau
+        x, v, e = law.stick_state(piece, x0, v0, e0, tau)
+        assert v == pytest.approx(v0 * math.cos(d) - e0 / (P.mass * OMEGA) * math.sin(d),
+                                  abs=1e-13 * abs(e0) / (P.mass * OMEGA))  # fmt: skip
+        assert e == pytest.approx(e0 * math.cos(d) + P.mass * OMEGA * v0 * math.sin(d),
+                                  abs=1e-13 * abs(e0))  # fmt: skip
+        expected_x = x0 + v0 / OMEGA * math.sin(d) + e0 / K_T * (math.cos(d) - 1.0)
+        assert x == pytest.approx(expected_x, abs=1e-13 * abs(e0) / K_T)
+
+
+def test_fundamental_series_with_varying_stiffness_matches_scipy():
+    """A piece of a large vibration, k_t varying by ~10 % over it: Φ(1) and ∫ẋ from the
+    series against solve_ivp on the same quartic k(τ) (rtol 1e-13), and det Φ = 1."""
+    h = 4.0 * P.natural_period / 200.0
+    piece, _ = _piece(0.9 * P.static_deflection, 0.1 * P.natural_period, h)
+    k = piece[law.M_K : law.M_K + 5]
+    assert abs(k[1]) > 0.05 * abs(k[0])  # the stiffness does vary
+
+    def rhs(tau, z):
+        stiffness = np.polynomial.polynomial.polyval(tau, k)
+        return [-h / P.mass * z[1], h * stiffness * z[0], h * z[0]]
+
+    scale = math.sqrt(k[0] * P.mass)  # m ω: e against ẋ
+    for column, start in ((0, [1.0, 0.0, 0.0]), (1, [0.0, 1.0, 0.0])):
+        ref = solve_ivp(rhs, (0.0, 1.0), start, method="DOP853", rtol=1e-13, atol=1e-18).y[:, -1]
+        v, e, x = (piece[law.M_PHI11 + column], piece[law.M_PHI21 + column],
+                   piece[law.M_PSI1 + column])  # fmt: skip
+        weight = 1.0 if column == 0 else scale
+        assert v * weight == pytest.approx(ref[0] * weight, abs=1e-12)
+        assert e * weight / scale == pytest.approx(ref[1] * weight / scale, abs=1e-12)
+        assert x * weight == pytest.approx(ref[2] * weight, abs=1e-12 * h)
+    det = piece[law.M_PHI11] * piece[law.M_PHI22] - piece[law.M_PHI12] * piece[law.M_PHI21]
+    assert det == pytest.approx(1.0, abs=1e-13)
+
+
+def test_a_stick_from_inside_the_piece_passes_through_its_start_state():
+    """virtual_start then stick_state at the same τ_a gives back the lane's state."""
+    piece, _ = _piece(0.9 * P.static_deflection, 0.1 * P.natural_period, 3.0 * DT)
+    x_a, v_a, e_a = 3e-9, -1e-4, 0.2
+    for tau_a in (0.2, 0.7):
+        start = law.virtual_start(piece, tau_a, x_a, v_a, e_a)
+        x, v, e = law.stick_state(piece, *start, tau_a)
+        assert (x, v, e) == pytest.approx((x_a, v_a, e_a), rel=1e-13)
+
+
+def test_stick_is_the_oscillator_on_the_spring():
+    """F < μ N/2: x(t) = (F/k_t)(1 - cos ωt) at every duration, no switch."""
+    forces = np.array([0.1, 0.3, 0.45])
+    for duration in (0.3e-3, 1.1e-3, 2.5e-3):
+        x, switches = _run(forces, [0.0], duration)
+        expected = forces / K_T * (1.0 - np.cos(OMEGA * duration))
+        np.testing.assert_allclose(x, expected, rtol=1e-9, atol=1e-12 * forces.max() / K_T)
+        assert not switches.any()
+
+
+def test_release_slip_and_stop_at_constant_normal_force():
+    """μ_s N/2 < F < μ_k N with μ_s = 0.15, μ_k = 0.1: release, slip, stop, stick."""
+    mu_s, mu_k, force = 0.15, 0.1, 0.85
+    cos_release = 1.0 - mu_s * N / force
+    t1 = math.acos(cos_release) / OMEGA
+    x1 = mu_s * N / K_T
+    v1 = force / K_T * OMEGA * math.sin(OMEGA * t1)
+    deceleration = (mu_k * N - force) / P.mass
+    t_stop = t1 + v1 / deceleration
+    x_stop = x1 + v1 * v1 / (2.0 * deceleration)
+    amplitude = (mu_k * N - force) / K_T
+    for duration in (0.9 * t1, t_stop + 0.37e-3, t_stop + 2.2e-3):
+        x, switches = _run([force], [0.0], duration, mu_s, mu_k)
+        if duration < t1:
+            expected = force / K_T * (1.0 - math.cos(OMEGA * duration))
+        else:
+            expected = x_stop - amplitude * (1.0 - math.cos(OMEGA * (duration - t_stop)))
+        assert x[0] == pytest.approx(expected, rel=1e-9)
+        assert switches[0] == (0 if duration < t1 else 2)
+
+
+def test_a_lane_is_the_same_bits_whatever_the_other_lanes():
+    """The same (force, amplitude) alone, among other forces, in another order or with
+    another set-up before it: the same bits (flights at 1.3 y0 included)."""
+    amplitudes = [0.7e-7, 1.3 * P.static_deflection]
+    forces = np.array([0.2, 0.55, 0.9])
+    x_all, switches = _run(forces, amplitudes, 2e-3)
+    assert switches.max() > 0
+    x_alone, _ = _run(forces[[1]], amplitudes[1:], 2e-3)
+    x_reversed, _ = _run(forces[::-1], amplitudes[::-1], 2e-3)
+    assert x_alone[0] == x_all[4]
+    np.testing.assert_array_equal(x_reversed[:3], x_all[3:][::-1])
+
+
+def test_bad_input_is_refused_in_one_line():
+    normal0 = np.array([[P.static_deflection, 0.0]])
+    with pytest.raises(ValueError, match=r"ratio must be > 0; got 0\.0"):
+        run_mindlin_lanes(C[None], normal0, [0.0], [0], [0.5], 0.1, 0.1, 1e-3, DT)
+    with pytest.raises(ValueError, match=r"dt = .* too coarse for the Mindlin"):
+        run_mindlin_lanes(C[None], normal0, [RATIO], [0], [0.5], 0.1, 0.1, 1e-3, 100.0 * DT)
+
+
+def test_a_release_between_two_sticking_piece_ends_is_found():
+    """F = (1 + 1e-6) μ N/2: |f| = F(1 - cos ωt) passes μ N only for ~0.3 % of a period
+    around its peak at π/ω, which the step puts in the middle of a piece; the margin is
+    positive at both ends of that piece, so only the curvature bound of the vector pass
+    can send it to the release search. Then the closed form of a release, slip and stop
+    (μ_s = μ_k), and two switches."""
+    mu = P.mu
+    force = (1.0 + 1e-6) * 0.5 * mu * N
+    dt = (math.pi / OMEGA) / 100.5  # the peak halfway through the 101st piece
+    t1 = math.acos(1.0 - mu * N / force) / OMEGA
+    v1 = force / K_T * OMEGA * math.sin(OMEGA * t1)
+    deceleration = (mu * N - force) / P.mass
+    t_stop = t1 + v1 / deceleration
+    x_stop = mu * N / K_T + v1 * v1 / (2.0 * deceleration)
+    amplitude = (mu * N - force) / K_T
+    duration = t_stop + 0.4e-3
+    x, switches = _run([force], [0.0], duration, dt=dt)
+    assert switches[0] == 2
+    expected = x_stop - amplitude * (1.0 - math.cos(OMEGA * (duration - t_stop)))
+    assert x[0] == pytest.approx(expected, rel=1e-9)
