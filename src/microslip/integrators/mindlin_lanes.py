@@ -47,27 +47,42 @@ STEP_TOO_COARSE = 7  # a set-up's status: θ = h sqrt(k_t/m) > MAX_THETA on a pi
 
 
 @njit(cache=True, inline="always", error_model="numpy")
-def free_piece(piece, p0, p1, s, xi, vi, fi, force, fm, km, mu_s, mu_k, h_int, h2_kint):
-    """(flag, x1, ẋ1, f1) of a lane over a contact piece as if it held no switch (Φ in
-    stick, the rigid law in slip); ``flag`` where its switching function may reach its
-    boundary inside (g >= min(g(0), g(1)) - max|g''|/8) or it lands here. Branch-free.
-    ``p0``, ``p1`` = P(0), P(1) [N]; ``h_int`` = h I(1), ``h2_kint`` = h² K(1)."""
+def piece_constants(a, piece, h_int, h2_kint):
+    """The numbers of a contact piece that every lane shares (a tuple of floats for
+    :func:`free_piece`: a tuple, not the array, keeps the lane loop free of reference
+    counting, which LLVM cannot vectorise); ``h_int`` = h I(1), ``h2_kint`` = h² K(1)."""
     h = piece[law.M_H]
+    r = piece[law.M_R : law.M_R + 5]
+    return (
+        h, piece[law.M_PHI11], piece[law.M_PHI12], piece[law.M_PHI21], piece[law.M_PHI22],
+        piece[law.M_PSI1], piece[law.M_PSI2], a[0], nt.poly(a, 1.0),
+        0.125 * piece[law.M_D2], 0.125 * piece[law.M_E1_2], 0.125 * piece[law.M_E2_2],
+        r[0], r[0] + r[1] + r[2] + r[3] + r[4],
+        0.125 * (h * piece[law.M_D1]), 0.125 * piece[law.M_R_2], 0.5 * h * h, h_int, h2_kint,
+    )  # fmt: skip
+
+
+@njit(cache=True, inline="always", error_model="numpy")
+def free_piece(k, s, xi, vi, fi, force, fm, km, mu_s, mu_k):
+    """(flag, x1, ẋ1, f1) of a lane over a contact piece as if it held no switch (Φ in
+    stick, the rigid law in slip), ``k`` from :func:`piece_constants`; ``flag`` where its
+    switching function may reach its boundary inside (g >= min(g(0), g(1)) - max|g''|/8)
+    or it lands here. Branch-free."""
+    h, phi11, phi12, phi21, phi22, psi1, psi2, p0, p1 = k[:9]
+    d2_8, e1_8, e2_8, r0, r1, h_d1_8, r2_8, h2_half, h_int, h2_kint = k[9:]
     # Stick: (ẋ, e) through Φ(1), x through ∫ẋ.
     e0 = fi - force
-    x_st = xi + piece[law.M_PSI1] * vi + piece[law.M_PSI2] * e0
-    v_st = piece[law.M_PHI11] * vi + piece[law.M_PHI12] * e0
-    f_st = force + piece[law.M_PHI21] * vi + piece[law.M_PHI22] * e0
+    x_st = xi + psi1 * vi + psi2 * e0
+    v_st = phi11 * vi + phi12 * e0
+    f_st = force + phi21 * vi + phi22 * e0
     margin = min(mu_s * p0 - abs(fi), mu_s * p1 - abs(f_st))
-    curvature = mu_s * piece[law.M_D2] + abs(vi) * piece[law.M_E1_2] + abs(e0) * piece[law.M_E2_2]
-    stick_low = margin - 0.125 * curvature
+    stick_low = margin - (mu_s * d2_8 + abs(vi) * e1_8 + abs(e0) * e2_8)
     # Slip: the rigid law; its stop function s u̇ = s ẋ - μ_k R at the ends.
     skm = s * km
     v_sl = vi + (h * fm - skm * h_int)
-    x_sl = xi + (h * vi + 0.5 * h * h * fm - skm * h2_kint)
-    r = piece[law.M_R : law.M_R + 5]
-    g_ends = min(s * vi - mu_k * r[0], s * v_sl - mu_k * (r[0] + r[1] + r[2] + r[3] + r[4]))
-    slip_low = g_ends - 0.125 * (km * h * piece[law.M_D1] + mu_k * piece[law.M_R_2])
+    x_sl = xi + (h * vi + h2_half * fm - skm * h2_kint)
+    g_ends = min(s * vi - mu_k * r0, s * v_sl - mu_k * r1)
+    slip_low = g_ends - (km * h_d1_8 + mu_k * r2_8)
     stick = s == 0.0
     landing = s * s > 1.5
     flag = (stick & (stick_low <= 0.0)) | ((s != 0.0) & (slip_low <= 0.0)) | landing
@@ -81,13 +96,13 @@ def free_piece(piece, p0, p1, s, xi, vi, fi, force, fm, km, mu_s, mu_k, h_int, h
 def _vector_pass(lanes, n, a, piece, h_int, h2_kint):
     """A contact piece for every lane as if it held no switch (:func:`free_piece`); a
     flagged lane keeps its state. Returns the number flagged."""
-    p0, p1 = a[0], nt.poly(a, 1.0)
+    k = piece_constants(a, piece, h_int, h2_kint)
     n_flagged = 0
     for i in range(n):
         xi, vi, fi = lanes[X, i], lanes[V, i], lanes[FS, i]
         flag, x1, v1, f1 = free_piece(
-            piece, p0, p1, lanes[MODE, i], xi, vi, fi, lanes[FORCE, i], lanes[FM, i],
-            lanes[KM, i], lanes[MU_S, i], lanes[MU_K, i], h_int, h2_kint,
+            k, lanes[MODE, i], xi, vi, fi, lanes[FORCE, i], lanes[FM, i], lanes[KM, i],
+            lanes[MU_S, i], lanes[MU_K, i],
         )  # fmt: skip
         lanes[FLAG, i] = 1.0 if flag else 0.0
         lanes[X, i] = xi if flag else x1
