@@ -66,16 +66,20 @@ def cache_root() -> Path:
     return base / "microslip"
 
 
-def _module_file(name: str, package_dir: Path) -> Path | None:
-    """The source file of module ``name`` (dotted, absolute) if it is inside the package."""
-    parts = name.split(".")
-    if parts[0] != PACKAGE:
-        return None
-    base = package_dir.joinpath(*parts[1:])
-    for candidate in (base.with_suffix(".py"), base / "__init__.py"):
-        if candidate.is_file():
-            return candidate
-    return None
+def _module_index(files: list[Path], package_dir: Path) -> dict[str, Path]:
+    """Dotted module name -> source file of every module of the package (``a/b.py`` is
+    ``microslip.a.b``, ``a/__init__.py`` is ``microslip.a``; a module file wins over a
+    package of the same name, as the import system's order of candidates here did). One
+    dictionary instead of a path construction and a stat per imported name: those were
+    ~30 ms of every start."""
+    index: dict[str, Path] = {}
+    for path in files:
+        parts = path.relative_to(package_dir).with_suffix("").parts
+        if parts[-1] == "__init__":
+            index.setdefault(".".join((PACKAGE, *parts[:-1])), path)
+        else:
+            index[".".join((PACKAGE, *parts))] = path
+    return index
 
 
 # Import statements, matched on the text so that only they are parsed (a whole-module parse
@@ -95,7 +99,7 @@ def _import_nodes(text: str) -> list[ast.AST]:
         return list(ast.walk(ast.parse(text)))
 
 
-def _imported_files(path: Path, package_dir: Path) -> set[Path]:
+def _imported_files(path: Path, package_dir: Path, index: dict[str, Path]) -> set[Path]:
     """Package modules that ``path`` imports (``import a.b``, ``from a import b``, relative)."""
     rel = path.relative_to(package_dir).with_suffix("")
     parts = [PACKAGE, *rel.parts]
@@ -117,11 +121,11 @@ def _imported_files(path: Path, package_dir: Path) -> set[Path]:
             names = []
             for alias in node.names:
                 sub = f"{module}.{alias.name}"
-                names.append(sub if _module_file(sub, package_dir) else module)
+                names.append(sub if sub in index else module)
         else:
             continue
         for name in names:
-            target = _module_file(name, package_dir)
+            target = index.get(name)
             if target is not None:
                 found.add(target)
     return found
@@ -135,6 +139,7 @@ def source_modules(package_dir: Path = PACKAGE_DIR) -> list[Path]:
     the package count, so a syntax error never hides a dependency.
     """
     files = sorted(package_dir.rglob("*.py"))
+    index = _module_index(files, package_dir)
     try:
         todo = [f for f in files if _NUMBA_IMPORT.search(f.read_text(encoding="utf-8"))]
         reached: set[Path] = set()
@@ -142,7 +147,7 @@ def source_modules(package_dir: Path = PACKAGE_DIR) -> list[Path]:
             path = todo.pop()
             if path not in reached:
                 reached.add(path)
-                todo.extend(_imported_files(path, package_dir) - reached)
+                todo.extend(_imported_files(path, package_dir, index) - reached)
     except (SyntaxError, ValueError, OSError):
         return files
     return sorted(reached)
