@@ -1,7 +1,9 @@
 """The Mindlin-lane kernel (integrators/mindlin_lanes.py, mindlin_lane_law.py): its
 per-piece stiffness and fundamental series against closed forms and a separate scipy
-integration, the kernel at constant N (where k_t = λ K_n is constant and the contact
-point has the closed forms of a spring), its determinism and its input checks.
+integration, a release that only the vector pass's curvature bound can find, and its
+input checks. (At constant N, where k_t = λ K_n is constant, its lanes follow a spring's
+closed forms and are the same bits whatever the other lanes:
+tests/unit/test_spring_lanes.py runs those cases on both kernels.)
 
 At rest in the static deflection (A = 0) N = m g and k_t = λ dN/dδ(y0) = λ K_n
 throughout: from rest with a relaxed spring x = (F/k_t)(1 - cos ωt), ω = sqrt(k_t/m);
@@ -131,50 +133,6 @@ def test_a_stick_from_inside_the_piece_passes_through_its_start_state():
         start = law.virtual_start(piece, tau_a, x_a, v_a, e_a)
         x, v, e = law.stick_state(piece, *start, tau_a)
         assert (x, v, e) == pytest.approx((x_a, v_a, e_a), rel=1e-13)
-
-
-def test_stick_is_the_oscillator_on_the_spring():
-    """F < μ N/2: x(t) = (F/k_t)(1 - cos ωt) at every duration, no switch."""
-    forces = np.array([0.1, 0.3, 0.45])
-    for duration in (0.3e-3, 1.1e-3, 2.5e-3):
-        x, switches = _run(forces, [0.0], duration)
-        expected = forces / K_T * (1.0 - np.cos(OMEGA * duration))
-        np.testing.assert_allclose(x, expected, rtol=1e-9, atol=1e-12 * forces.max() / K_T)
-        assert not switches.any()
-
-
-def test_release_slip_and_stop_at_constant_normal_force():
-    """μ_s N/2 < F < μ_k N with μ_s = 0.15, μ_k = 0.1: release, slip, stop, stick."""
-    mu_s, mu_k, force = 0.15, 0.1, 0.85
-    cos_release = 1.0 - mu_s * N / force
-    t1 = math.acos(cos_release) / OMEGA
-    x1 = mu_s * N / K_T
-    v1 = force / K_T * OMEGA * math.sin(OMEGA * t1)
-    deceleration = (mu_k * N - force) / P.mass
-    t_stop = t1 + v1 / deceleration
-    x_stop = x1 + v1 * v1 / (2.0 * deceleration)
-    amplitude = (mu_k * N - force) / K_T
-    for duration in (0.9 * t1, t_stop + 0.37e-3, t_stop + 2.2e-3):
-        x, switches = _run([force], [0.0], duration, mu_s, mu_k)
-        if duration < t1:
-            expected = force / K_T * (1.0 - math.cos(OMEGA * duration))
-        else:
-            expected = x_stop - amplitude * (1.0 - math.cos(OMEGA * (duration - t_stop)))
-        assert x[0] == pytest.approx(expected, rel=1e-9)
-        assert switches[0] == (0 if duration < t1 else 2)
-
-
-def test_a_lane_is_the_same_bits_whatever_the_other_lanes():
-    """The same (force, amplitude) alone, among other forces, in another order or with
-    another set-up before it: the same bits (flights at 1.3 y0 included)."""
-    amplitudes = [0.7e-7, 1.3 * P.static_deflection]
-    forces = np.array([0.2, 0.55, 0.9])
-    x_all, switches = _run(forces, amplitudes, 2e-3)
-    assert switches.max() > 0
-    x_alone, _ = _run(forces[[1]], amplitudes[1:], 2e-3)
-    x_reversed, _ = _run(forces[::-1], amplitudes[::-1], 2e-3)
-    assert x_alone[0] == x_all[4]
-    np.testing.assert_array_equal(x_reversed[:3], x_all[3:][::-1])
 
 
 def test_bad_input_is_refused_in_one_line():

@@ -1,5 +1,8 @@
 """The spring-lane kernel (integrators/spring_lanes.py) at constant N, where the contact
-point on its spring has a closed form, and its determinism and input checks.
+point on its spring has a closed form, and its determinism and input checks. The
+Mindlin-lane kernel (integrators/mindlin_lanes.py) runs the same constant-N cases: at
+rest k_t = λ K_n is constant, so with λ = 1 its lanes must follow the same closed forms
+(its own tests: tests/unit/test_mindlin_lanes.py).
 
 At rest in the static deflection (A = 0) the normal force is m g throughout. From rest
 with a relaxed spring the body oscillates on k_t about F/k_t: x = (F/k_t)(1 - cos ωt),
@@ -18,6 +21,7 @@ import pytest
 
 import microslip as ms
 from microslip.integrators import spring_lane_law as law
+from microslip.integrators.mindlin_lanes import run_mindlin_lanes
 from microslip.integrators.normal_tape import normal_coefficients
 from microslip.integrators.spring_lanes import run_spring_lanes
 from microslip.simulation import initial_state_from_amplitude
@@ -29,28 +33,37 @@ N = P.mass * P.g
 DT = 2.0 * math.pi / OMEGA / 200.0
 
 
-def _run(forces, amplitudes, duration, mu_s=P.mu, mu_k=P.mu, stiffness=K_T):
-    """x(duration) [m] per lane, amplitude-major then force, and the switch counts."""
+KERNELS = ("spring", "mindlin")
+
+
+def _run(forces, amplitudes, duration, mu_s=P.mu, mu_k=P.mu, stiffness=K_T, kernel="spring"):
+    """x(duration) [m] per lane, amplitude-major then force, and the switch counts; the
+    Mindlin kernel with λ = stiffness / K_n (k_t = stiffness at rest)."""
     model = ms.Model(P, tangential=ms.TangentialSpring(stiffness))
     normal0 = np.array([initial_state_from_amplitude(P, a)[:2] for a in amplitudes])
     coeffs = np.repeat(normal_coefficients(model.pack(0.0))[None], len(amplitudes), axis=0)
     groups = np.repeat(np.arange(len(amplitudes)), len(forces))
-    out = run_spring_lanes(coeffs, normal0, [stiffness] * len(amplitudes), groups,
-                           np.tile(forces, len(amplitudes)), mu_s, mu_k, duration, DT)  # fmt: skip
+    run, parameter = run_spring_lanes, stiffness
+    if kernel == "mindlin":
+        run, parameter = run_mindlin_lanes, stiffness / P.contact_stiffness
+    out = run(coeffs, normal0, [parameter] * len(amplitudes), groups,
+              np.tile(forces, len(amplitudes)), mu_s, mu_k, duration, DT)  # fmt: skip
     return out[0], out[4]
 
 
-def test_stick_is_the_oscillator_on_the_spring():
+@pytest.mark.parametrize("kernel", KERNELS)
+def test_stick_is_the_oscillator_on_the_spring(kernel):
     """F < μ N/2: x(t) = (F/k_t)(1 - cos ωt) at every duration, no switch."""
     forces = np.array([0.1, 0.3, 0.45])
     for duration in (0.3e-3, 1.1e-3, 2.5e-3):
-        x, switches = _run(forces, [0.0], duration)
+        x, switches = _run(forces, [0.0], duration, kernel=kernel)
         expected = forces / K_T * (1.0 - np.cos(OMEGA * duration))
         np.testing.assert_allclose(x, expected, rtol=1e-9, atol=1e-12 * forces.max() / K_T)
         assert not switches.any()
 
 
-def test_release_slip_and_stop_at_constant_normal_force():
+@pytest.mark.parametrize("kernel", KERNELS)
+def test_release_slip_and_stop_at_constant_normal_force(kernel):
     """μ_s N/2 < F < μ_k N with μ_s = 0.15, μ_k = 0.1: release, slip, stop, stick."""
     mu_s, mu_k, force = 0.15, 0.1, 0.85
     cos_release = 1.0 - mu_s * N / force
@@ -62,7 +75,7 @@ def test_release_slip_and_stop_at_constant_normal_force():
     x_stop = x1 + v1 * v1 / (2.0 * deceleration)
     amplitude = (mu_k * N - force) / K_T
     for duration in (0.9 * t1, t_stop + 0.37e-3, t_stop + 2.2e-3):
-        x, switches = _run([force], [0.0], duration, mu_s, mu_k)
+        x, switches = _run([force], [0.0], duration, mu_s, mu_k, kernel=kernel)
         if duration < t1:
             expected = force / K_T * (1.0 - math.cos(OMEGA * duration))
         else:
@@ -71,14 +84,16 @@ def test_release_slip_and_stop_at_constant_normal_force():
         assert switches[0] == (0 if duration < t1 else 2)
 
 
-def test_a_lane_is_the_same_bits_whatever_the_other_lanes():
+@pytest.mark.parametrize("kernel", KERNELS)
+def test_a_lane_is_the_same_bits_whatever_the_other_lanes(kernel):
     """The same (force, amplitude) alone, among other forces, in another order or with
-    another set-up before it: the same bits."""
-    amplitudes = [0.7e-7, 1.4e-7]
+    another set-up before it: the same bits (flights at 1.3 y0 included)."""
+    amplitudes = [0.7e-7, 1.3 * P.static_deflection]
     forces = np.array([0.2, 0.55, 0.9])
-    x_all, _ = _run(forces, amplitudes, 2e-3)
-    x_alone, _ = _run(forces[[1]], amplitudes[1:], 2e-3)
-    x_reversed, _ = _run(forces[::-1], amplitudes[::-1], 2e-3)
+    x_all, switches = _run(forces, amplitudes, 2e-3, kernel=kernel)
+    assert switches.max() > 0
+    x_alone, _ = _run(forces[[1]], amplitudes[1:], 2e-3, kernel=kernel)
+    x_reversed, _ = _run(forces[::-1], amplitudes[::-1], 2e-3, kernel=kernel)
     assert x_alone[0] == x_all[4]
     np.testing.assert_array_equal(x_reversed[:3], x_all[3:][::-1])
 

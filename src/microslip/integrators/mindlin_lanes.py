@@ -24,7 +24,6 @@ from microslip import _jit_cache  # noqa: F401  (registers the cache before any 
 from microslip.integrators import mindlin_lane_law as law
 from microslip.integrators import normal_tape as nt
 from microslip.integrators.shared_lanes import LANE_STALLED, OK, raise_on_failure
-from microslip.integrators.spring_lane_law import FLIGHT
 from microslip.integrators.spring_lanes import (
     FLAG,
     FM,
@@ -36,10 +35,10 @@ from microslip.integrators.spring_lanes import (
     MU_S,
     V,
     X,
-    flight_pass,
     flight_piece,
+    fly,
     pack_lanes,
-    starts_in_flight,
+    start_lanes,
 )
 from microslip.model.coefficients import GRAVITY, MASS
 
@@ -118,9 +117,7 @@ def _run_group(c, y0, ydot0, ratio, t_end, dt, lanes, switches, flagged):
     n = lanes.shape[1]
     piece = np.zeros(law.PIECE)
     law.set_setup(piece, c[MASS], c[GRAVITY], ratio)
-    flying = starts_in_flight(c, y0, ydot0)
-    for i in range(n):
-        lanes[MODE, i] = FLIGHT if flying else 0.0
+    flying = start_lanes(c, y0, ydot0, lanes, n)
     carry, tape, work = nt.tape_buffers(y0, ydot0)
     while True:
         rows, tape_status = nt.fill_tape(carry, c, t_end, dt, tape, work)
@@ -130,11 +127,8 @@ def _run_group(c, y0, ydot0, ratio, t_end, dt, lanes, switches, flagged):
             h = tape[r, nt.H]
             a = nt.coefficients(tape, r)
             if flight_piece(a):
-                if not flying:  # lift-off: the spring relaxes (f = 0, u = x)
-                    for i in range(n):
-                        lanes[MODE, i], lanes[FS, i] = FLIGHT, 0.0
+                fly(lanes, n, h, flying)
                 flying = True
-                flight_pass(lanes, n, h)
                 continue
             flying = False
             if law.set_piece(piece, a, tape, r, c) != 0:

@@ -33,7 +33,7 @@ g + g' s - M s²/2, so no crossing is skipped; near a simple root the steps are 
 from the inside, and where g'' > 0 a bound of g''' clears 1.5 g''/M3 at once (the
 double zero of the stick margin after every stop). The instant is located to within
 ~1e-12 of the piece, which keeps the 4th order of the normal RK4 integration
-(tests/validation/test_spring_lanes_order.py).
+(tests/validation/test_compliant_lanes_order.py).
 """
 
 from __future__ import annotations

@@ -151,6 +151,26 @@ def flight_pass(lanes, n, h):
 
 
 @njit(cache=True)
+def start_lanes(c, y0, ydot0, lanes, n):
+    """Put lanes [0, n) at rest on a relaxed spring in flight or stuck, as their set-up
+    starts out of contact or in it; returns whether it starts in flight."""
+    flying = starts_in_flight(c, y0, ydot0)
+    for i in range(n):
+        lanes[MODE, i] = FLIGHT if flying else 0.0
+    return flying
+
+
+@njit(cache=True)
+def fly(lanes, n, h, flying):
+    """A tape piece in flight for lanes [0, n): on lift-off (``flying`` False) every
+    spring relaxes (f = 0, u = x), then every lane flies (:func:`flight_pass`)."""
+    if not flying:
+        for i in range(n):
+            lanes[MODE, i], lanes[FS, i] = FLIGHT, 0.0
+    flight_pass(lanes, n, h)
+
+
+@njit(cache=True)
 def _run_group(c, y0, ydot0, k_t, t_end, dt, lanes, switches, flagged):
     """One normal set-up and its lanes, in place; returns the status."""
     n = lanes.shape[1]
@@ -158,9 +178,7 @@ def _run_group(c, y0, ydot0, k_t, t_end, dt, lanes, switches, flagged):
     omega = math.sqrt(k_t / mass)
     piece = np.empty(PIECE)
     set_spring(piece, omega, k_t, mass, c[GRAVITY])
-    flying = starts_in_flight(c, y0, ydot0)
-    for i in range(n):
-        lanes[MODE, i] = FLIGHT if flying else 0.0
+    flying = start_lanes(c, y0, ydot0, lanes, n)
     carry, tape, work = nt.tape_buffers(y0, ydot0)
     while True:
         rows, tape_status = nt.fill_tape(carry, c, t_end, dt, tape, work)
@@ -170,11 +188,8 @@ def _run_group(c, y0, ydot0, k_t, t_end, dt, lanes, switches, flagged):
             h = tape[r, nt.H]
             a = nt.coefficients(tape, r)
             if flight_piece(a):
-                if not flying:  # lift-off: the spring relaxes (f = 0, u = x)
-                    for i in range(n):
-                        lanes[MODE, i], lanes[FS, i] = FLIGHT, 0.0
+                fly(lanes, n, h, flying)
                 flying = True
-                flight_pass(lanes, n, h)
                 continue
             flying = False  # a lane that lands is flagged: the piece applies the touchdown
             set_piece(piece, a, h)
