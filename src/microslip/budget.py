@@ -78,6 +78,12 @@ SHARED_S_PER_SETUP_STEP = 0.2e-6
 SHARED_S_PER_LANE_STEP = 4e-9
 # One tape buffer per thread (normal_tape.TAPE_ROWS x ROW) and a piece vector.
 TAPE_BYTES = 2048 * 21 * 8 + 4096
+# "time" sweeps of a MindlinSpring whose contact exponent the Mindlin lanes do not run
+# (microslip.integrators.batched): every lane-step is the generic RK4 step with the
+# model's switching, the lanes in blocks over the threads. Measured 2026-11-26, 64 forces
+# x 16 set-ups, 0.02 s, 2 threads: 0.42 us per lane-step per thread (TangentialSpring,
+# free vibration), 1.34 us (MindlinSpring, Viscous + HarmonicForce); rounded up ~3x.
+BATCHED_S_PER_LANE_STEP = 4e-6
 # "time" sweeps of a TangentialSpring (microslip.integrators.spring_lanes): the tapes as
 # above, each lane-step the contact point's closed forms. Measured 2026-11-26, 64 forces
 # x 16 amplitudes, 0.05 s, dt = 1/200 of the tangential period, 2 threads: 12 ns per
@@ -369,7 +375,8 @@ def estimate_sweep(
     over chunks of grid steps x :func:`shared_chunk_rounds` (the tapes, a thread each),
     each round also advancing its ``n_forces`` lanes (``kernel="spring"``: a
     TangentialSpring's lanes; ``kernel="mindlin"``: a MindlinSpring's, whose set-up
-    steps cost more). Memory:
+    steps cost more); with ``kernel="batched"`` (a MindlinSpring of another m2) from
+    ``lane_steps`` spread over the threads. Memory:
     the result
     (``SWEEP_BYTES_PER_POINT`` per point) and the buffers of the chunk of
     ``chunk_points`` points being computed (an in-process run computes one chunk at a
@@ -382,6 +389,10 @@ def estimate_sweep(
         seconds = orbits * STEADY_S_PER_ORBIT + points * STEADY_S_PER_POINT
         buffers = 8 * chunk_points + STEADY_TABLES_HELD * STEADY_BYTES_PER_AMPLITUDE
         work, unit = points, "points"
+    elif kernel == "batched":
+        seconds = lane_steps * BATCHED_S_PER_LANE_STEP / batch_threads()
+        buffers = BATCH_BYTES_PER_LANE * chunk_points
+        work, unit = lane_steps, "trajectory-steps"
     else:
         lane_cost = SHARED_S_PER_LANE_STEP if kernel == "shared" else SPRING_S_PER_LANE_STEP
         setup_cost = MINDLIN_S_PER_SETUP_STEP if kernel == "mindlin" else SHARED_S_PER_SETUP_STEP

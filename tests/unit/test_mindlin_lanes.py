@@ -163,3 +163,15 @@ def test_a_release_between_two_sticking_piece_ends_is_found():
     assert switches[0] == 2
     expected = x_stop - amplitude * (1.0 - math.cos(OMEGA * (duration - t_stop)))
     assert x[0] == pytest.approx(expected, rel=1e-9)
+
+
+@pytest.mark.parametrize("m2", [1.5, 2.5])
+def test_an_exponent_whose_stiffness_is_not_smooth_at_touchdown_is_refused(m2):
+    """k_t ∝ δ^(m2-1) with 1 < m2 < 3, m2 != 2: refused in one line naming m2 (a lane
+    that lands would stall); the sweep takes the batched kernel instead."""
+    c = normal_coefficients(
+        ms.Model(ms.Parameters(m2=m2), tangential=ms.MindlinSpring(RATIO)).pack(0.0)
+    )
+    normal0 = np.array([[P.static_deflection, 0.0]])
+    with pytest.raises(ValueError, match=rf"m2 = {m2}: the Mindlin-lane kernel runs m2 = 1, 2"):
+        run_mindlin_lanes(c[None], normal0, [RATIO], [0], [0.5], 0.1, 0.1, 1e-3, DT)

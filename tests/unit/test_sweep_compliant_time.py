@@ -106,3 +106,30 @@ def test_a_spring_time_sweep_is_the_same_bits_however_it_is_chunked():
         np.testing.assert_array_equal(
             np.asarray(together.values)[k], np.asarray(single.values).ravel()
         )
+
+
+def test_mindlin_exponents_without_lanes_run_on_the_batched_kernel():
+    """m2 = 1.5 (k_t ∝ δ^0.5, not smooth at touchdown: the Mindlin lanes refuse it) with
+    a flight every period: each point is the rk4 run of simulate at the sweep's step, bit
+    for bit; m2 = 2 in the same sweep runs on the Mindlin lanes, as it does alone."""
+    from microslip.sweeps.kernel_choice import time_kernel
+
+    model = ms.Model(ms.Parameters(m2=1.5), tangential=ms.MindlinSpring(0.8235))
+    assert time_kernel(model) == "batched"
+    assert time_kernel(model.replace(m2=2.0)) == "mindlin"
+    y0 = model.params.static_deflection
+    forces, amplitude = [0.2, 0.6], 1.4 * y0
+    result = sweep(model, None, force=forces, amplitude=[amplitude], method="time",
+                   duration=0.003)  # fmt: skip
+    dt = shortest_period(model) / DEFAULT_RK4_STEPS_PER_PERIOD
+    for i, force in enumerate(forces):
+        run = ms.simulate(model, force=force, amplitude=amplitude, duration=0.003,
+                          method="rk4", dt=dt)  # fmt: skip
+        assert float(result.values[i, 0]) == run.x[-1] / 0.003
+    forced = ms.Model(
+        ms.Parameters(m2=2.0), tangential=ms.MindlinSpring(0.8235),
+        damping=ms.Viscous(0.05), excitation=ms.HarmonicForce(4.0, 1200.0),
+    )  # fmt: skip
+    both = sweep(forced, {"m2": [1.5, 2.0]}, force=forces, method="time", duration=0.003)
+    alone = sweep(forced, None, force=forces, method="time", duration=0.003)
+    np.testing.assert_array_equal(np.asarray(both.values)[1], np.asarray(alone.values))

@@ -13,6 +13,14 @@ so a stuck lane costs a 2x2 matrix product and a sliding one the rigid law.
 
 A lane's arithmetic depends only on its own parameters and its set-up's tape (no
 fastmath): the same bits whatever the other lanes, their order or the threads.
+
+Contact exponents: m2 = 1, m2 = 2 and m2 >= 3 (:func:`supports_exponent`). Otherwise
+k_t ∝ δ^(m2-1) is not smooth where δ = 0: on the piece after a touchdown (and before a
+lift-off) its quartic misses the infinite slope (1 < m2 < 2) or curvature (2 < m2 < 3)
+there, the stick's loading and the slip's stop function disagree at a grazing
+touchdown, and a lane that lands chatters between them until it stalls (measured: every
+lane with a flight at m2 = 1.2, 1.5, 1.9, 1.99, 2.2, 2.5). Time sweeps of those models
+run on the batched RK4 kernel (:mod:`microslip.sweeps.kernel_choice`).
 """
 
 from __future__ import annotations
@@ -40,9 +48,14 @@ from microslip.integrators.spring_lanes import (
     pack_lanes,
     start_lanes,
 )
-from microslip.model.coefficients import GRAVITY, MASS
+from microslip.model.coefficients import EXPONENT, GRAVITY, MASS
 
 STEP_TOO_COARSE = 7  # a set-up's status: θ = h sqrt(k_t/m) > MAX_THETA on a piece
+
+
+def supports_exponent(m2: float) -> bool:
+    """True for the contact exponents m2 [-] this kernel runs: 1, 2 and >= 3 (module doc)."""
+    return m2 == 1.0 or m2 == 2.0 or m2 >= 3.0
 
 
 @njit(cache=True, inline="always", error_model="numpy")
@@ -188,12 +201,19 @@ def run_mindlin_lanes(normal_coeffs, normal_states0, ratio, group_of_lane, force
     t_end : end time [s]; dt : RK4 step of the normal motion [s] (grid k·dt).
 
     Returns (x [m], ẋ [m/s], f [N], mode, switches, flagged) per lane at ``t_end``
-    (mode 0 stick, ±1 slip, 2 flight). ValueError when dt is too coarse for the
-    tangential oscillation (h sqrt(k_t/m) > 2 on a piece); RuntimeError if a normal
-    integration or a lane fails.
+    (mode 0 stick, ±1 slip, 2 flight). ValueError for a contact exponent m2 it does not
+    run (:func:`supports_exponent`) or when dt is too coarse for the tangential
+    oscillation (h sqrt(k_t/m) > 2 on a piece); RuntimeError if a normal integration or
+    a lane fails.
     """
     normal_coeffs = np.ascontiguousarray(normal_coeffs, dtype=np.float64)
     states0 = np.asarray(normal_states0, dtype=np.float64)
+    for m2 in np.unique(normal_coeffs[:, EXPONENT]):
+        if not supports_exponent(float(m2)):
+            raise ValueError(
+                f"m2 = {float(m2)!r}: the Mindlin-lane kernel runs m2 = 1, 2 or >= 3 (k_t ∝ "
+                "δ^(m2-1) is not smooth at touchdown otherwise); use the batched kernel"
+            )
     lanes, starts, ratio = pack_lanes(
         normal_coeffs, ratio, group_of_lane, forces, mu_static, mu_kinetic, what="ratio"
     )

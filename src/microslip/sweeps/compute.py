@@ -23,6 +23,8 @@ def compute_chunk(spec: SweepSpec, key: ChunkKey) -> np.ndarray:
     Each point is computed independently of the chunking, so results are bit-identical
     however the sweep is split or distributed.
     """
+    if spec.method == "time" and time_kernel(spec.model_at(key)) == "batched":
+        return compliant_time_chunk(spec, key)
     if spec.forced:
         return forced_chunk(spec, key)
     if spec.base.damping is not None and spec.method == "steady":
@@ -46,7 +48,11 @@ def compute_chunk(spec: SweepSpec, key: ChunkKey) -> np.ndarray:
 def shares_runs(spec: SweepSpec) -> bool:
     """True when :func:`compute_chunks` computes several chunks in one run: a forced
     model's time chunks on a shared-normal kernel, one normal set-up each."""
-    return spec.forced and spec.method == "time"
+    return (
+        spec.forced
+        and spec.method == "time"
+        and time_kernel(spec.base, spec.param_axes) != "batched"
+    )
 
 
 def compute_chunks(spec: SweepSpec, keys: list[ChunkKey]) -> list[np.ndarray]:
@@ -55,6 +61,12 @@ def compute_chunks(spec: SweepSpec, keys: list[ChunkKey]) -> list[np.ndarray]:
     over the cores (a set-up's lanes depend on nothing else in the run)."""
     if not shares_runs(spec):
         return [compute_chunk(spec, key) for key in keys]
+    return _forced_time_chunks(spec, keys)
+
+
+def _forced_time_chunks(spec: SweepSpec, keys: list[ChunkKey]) -> list[np.ndarray]:
+    """A forced model's time chunks through one shared-normal run (:func:`compute_chunks`);
+    each chunk's model runs on a shared-normal kernel."""
     models = [spec.model_at(key) for key in keys]
     steps = [_time_step(spec, model) for model in models]
     blocks: list[np.ndarray | None] = [None] * len(keys)
@@ -111,7 +123,7 @@ def forced_chunk(spec: SweepSpec, key: ChunkKey) -> np.ndarray:
     model = spec.model_at(key)
     forces = np.asarray(spec.forces, dtype=float)
     if spec.method == "time":
-        return compute_chunks(spec, [key])[0]
+        return _forced_time_chunks(spec, [key])[0]
     try:
         table = model_sliding_table(model)
     except NotPeriodOneError as error:
@@ -126,6 +138,29 @@ def forced_chunk(spec: SweepSpec, key: ChunkKey) -> np.ndarray:
         end = _batched_run(spec, model, forces, half, states0=states).states
         return ((end[:, 2] - states[:, 2]) / half)[:, None]
     return mean_velocities(table, model.params.mu, forces)[:, None]
+
+
+def compliant_time_chunk(spec: SweepSpec, key: ChunkKey) -> np.ndarray:
+    """x(T)/T [m/s] on the chunk's block for a MindlinSpring whose contact exponent the
+    Mindlin lanes do not run (:func:`~microslip.integrators.mindlin_lanes.supports_exponent`),
+    shape (forces, amplitudes of the chunk; one for a forced model).
+
+    Every (force, amplitude) is a trajectory of the batched RK4 kernel
+    (:func:`microslip.integrators.batched.simulate_batch`: ``simulate(method="rk4")``
+    bit for bit), from the initial state of ``simulate``: the paper's rest at the top
+    (free vibration) or rest at y0 (forced), a relaxed spring.
+    """
+    model = spec.model_at(key)
+    forces = np.asarray(spec.forces, dtype=float)
+    if spec.forced:
+        result = _batched_run(spec, model, forces, spec.duration)  # from rest at y0
+        return result.mean_velocity[:, None]
+    amplitudes = spec.amplitudes[spec.amplitude_slice(key)]
+    starts = [initial_state_from_amplitude(model.params, a) for a in amplitudes]
+    states0 = np.repeat(np.array(starts), forces.size, axis=0)  # amplitude-major, then force
+    lanes = np.tile(forces, len(starts))
+    result = _batched_run(spec, model, lanes, spec.duration, states0=states0)
+    return result.mean_velocity.reshape(len(starts), forces.size).T
 
 
 def _shared_run(models, normal0, forces, duration, dt, backend="cpu") -> np.ndarray:

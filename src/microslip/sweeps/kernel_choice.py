@@ -12,6 +12,7 @@ import numpy as np
 from microslip import budget
 from microslip import validation as check
 from microslip.analysis.steady_state import TANGENTIAL_INSTEAD
+from microslip.integrators.mindlin_lanes import supports_exponent
 from microslip.model.composition import Model
 from microslip.model.tangential import MindlinSpring, TangentialSpring
 from microslip.sweeps.axes import log_step_period
@@ -37,14 +38,21 @@ SWEEP_INSTEAD = (
 )
 
 
-def time_kernel(model: Model) -> str:
+def time_kernel(model: Model, param_axes=()) -> str:
     """The kernel of a time sweep of ``model`` (:func:`microslip.budget.estimate_sweep`):
     "shared" (rigid contact), "spring" (TangentialSpring) or "mindlin" (MindlinSpring),
     each a shared-normal kernel (:mod:`microslip.integrators.shared_lanes`,
-    :mod:`~microslip.integrators.spring_lanes`, :mod:`~microslip.integrators.mindlin_lanes`)."""
+    :mod:`~microslip.integrators.spring_lanes`, :mod:`~microslip.integrators.mindlin_lanes`);
+    "batched" (:mod:`microslip.integrators.batched`, one trajectory per point) for a
+    MindlinSpring whose contact exponent m2, or one of the ``param_axes``' values of
+    "m2", the Mindlin lanes do not run
+    (:func:`~microslip.integrators.mindlin_lanes.supports_exponent`)."""
     if not model.is_compliant:
         return "shared"
-    return "spring" if isinstance(model.tangential, TangentialSpring) else "mindlin"
+    if isinstance(model.tangential, TangentialSpring):
+        return "spring"
+    exponents = dict(param_axes).get("m2", (model.params.m2,))
+    return "mindlin" if all(supports_exponent(m2) for m2 in exponents) else "batched"
 
 
 def checked_backend(backend: Any, model: Model, method: str) -> str:
@@ -55,7 +63,7 @@ def checked_backend(backend: Any, model: Model, method: str) -> str:
     if method != "time":
         raise ValueError("backend='cuda' runs method='time' only; 'steady' runs on the CPU")
     kernel = time_kernel(model)
-    if kernel == "mindlin":
+    if kernel in ("mindlin", "batched"):
         raise ValueError(
             "backend='cuda' runs the time kernels of a rigid contact or a TangentialSpring; "
             f"a {type(model.tangential).__name__} runs on the CPU ({kernel!r} kernel)"
@@ -105,5 +113,5 @@ def estimate_work(
         setup_steps=setup_steps,
         chunk_points=n_forces * amplitude_chunk,
         axis_values=values,
-        kernel=time_kernel(model),
+        kernel=time_kernel(model, param_axes),
     )
