@@ -176,7 +176,7 @@ def steps_per_period(model: Model, frequency: float | None = None) -> int:
 
 def transient_steps(n_steps: int) -> int:
     """Fixed step count per excitation period of a transient (TRANSIENT_STEP_DIVISOR)."""
-    return max(MIN_STEPS // TRANSIENT_STEP_DIVISOR, math.ceil(n_steps / TRANSIENT_STEP_DIVISOR))
+    return math.ceil(n_steps / TRANSIENT_STEP_DIVISOR)
 
 
 def state_scale(model: Model) -> np.ndarray:

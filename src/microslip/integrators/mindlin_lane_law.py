@@ -172,13 +172,9 @@ def _fundamental_series(piece, h, mass, scale):
         piece[M_E2 : M_E2 + _N],
     )
     x1, x2 = piece[M_X1 : M_X1 + _N], piece[M_X2 : M_X2 + _N]
-    v1[:] = 0.0
-    e1[:] = 0.0
-    v2[:] = 0.0
-    e2[:] = 0.0
-    x1[:] = 0.0
-    x2[:] = 0.0
-    v1[0], e2[0] = 1.0, 1.0
+    # Φ(0) = I; the loop writes every coefficient up to the degree it stops at, and
+    # nothing reads past that degree.
+    v1[0], e1[0], v2[0], e2[0], x1[0], x2[0] = 1.0, 0.0, 0.0, 1.0, 0.0, 0.0
     h_m = h / mass
     degree = DEGREE
     small = 0

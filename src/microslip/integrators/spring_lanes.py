@@ -144,7 +144,7 @@ def _vector_pass(lanes, n, a, piece, h_int, h2_kint):
 
 
 @njit(cache=True, error_model="numpy")
-def flight_pass(lanes, n, h):
+def _flight_pass(lanes, n, h):
     """A piece in flight for every lane (:func:`flight_step`)."""
     for i in range(n):
         lanes[X, i], lanes[V, i] = flight_step(lanes[X, i], lanes[V, i], lanes[FM, i], h)
@@ -163,11 +163,11 @@ def start_lanes(c, y0, ydot0, lanes, n):
 @njit(cache=True)
 def fly(lanes, n, h, flying):
     """A tape piece in flight for lanes [0, n): on lift-off (``flying`` False) every
-    spring relaxes (f = 0, u = x), then every lane flies (:func:`flight_pass`)."""
+    spring relaxes (f = 0, u = x), then every lane flies (:func:`_flight_pass`)."""
     if not flying:
         for i in range(n):
             lanes[MODE, i], lanes[FS, i] = FLIGHT, 0.0
-    flight_pass(lanes, n, h)
+    _flight_pass(lanes, n, h)
 
 
 @njit(cache=True)
