@@ -63,7 +63,11 @@ from microslip.model.normal import (
     raw_normal_force,
 )
 from microslip.model.switches import apply_switch, initial_mode
-from microslip.model.switching_functions import separation_rate, separation_value
+from microslip.model.switching_functions import (
+    contact_side_rate,
+    separation_rate,
+    separation_value,
+)
 from microslip.model.system import N_STATE, airborne
 from microslip.model.tangential import RIGID
 
@@ -217,11 +221,15 @@ def _extremes(a):
 
 @njit(cache=True, error_model="numpy")
 def _end_values(t, y, ydot, c):
-    """(ÿ [m/s^2], N_raw [N], dN_raw/dt [N/s], δ [m], δ̇ [m/s]) at a piece end: the
-    normal acceleration, the SEPARATION function and its rate (the raw law: continuous
-    through a separation inside the overlap, where the clipped N has a kink), and the
-    CONTACT_GAP function and its rate. Computed once per boundary: the quartics on either
-    side, the screening of the step and the next step's first RK4 stage share them."""
+    """(ÿ [m/s^2], N_raw [N], dN_raw/dt [N/s], δ [m], δ̇ [m/s], dN/dt in contact [N/s])
+    at a piece end: the normal acceleration, the SEPARATION function and its rate (the
+    raw law: continuous through a separation inside the overlap, where the clipped N has
+    a kink), the CONTACT_GAP function and its rate, and the rate seen from inside the
+    contact (:func:`~microslip.model.switching_functions.contact_side_rate`: at a loss
+    of contact at δ = 0 the piece before it ends with the law's slope, S c_n δ̇ for
+    m2 = 1, where SEPARATION's rate, past δ = 0, is 0). Computed once per boundary: the
+    quartics on either side, the screening of the step and the next step's first RK4
+    stage share them."""
     delta, delta_rate, third = gap(t, y, ydot, c)
     acceleration = normal_acceleration(t, y, ydot, c)
     delta_accel = third if is_prescribed(c) else acceleration - third
@@ -231,6 +239,7 @@ def _end_values(t, y, ydot, c):
         separation_rate(delta, delta_rate, delta_accel, c),
         delta,
         delta_rate,
+        contact_side_rate(delta, delta_rate, delta_accel, c),
     )
 
 
@@ -241,8 +250,8 @@ def piece_coefficients(t0, y0, v0, ends0, t1, y1, v1, ends1, c):
     flight. ``ends0``, ``ends1`` are :func:`_end_values` there (computed once per
     boundary, shared by the pieces on either side)."""
     h = t1 - t0
-    acc0, n0, rate0 = ends0[0], ends0[1], ends0[2]
-    acc1, n1, rate1 = ends1[0], ends1[1], ends1[2]
+    acc0, n0, rate0 = ends0[0], ends0[1], ends0[5]
+    acc1, n1, rate1 = ends1[0], ends1[1], ends1[5]
     # The middle of the piece from the quintic Hermite interpolant of y.
     y_mid = 0.5 * (y0 + y1) + h * (v0 - v1) * (5.0 / 32.0) + h * h * (acc0 + acc1) / 64.0
     v_mid = 15.0 * (y1 - y0) / (8.0 * h) - 7.0 * (v0 + v1) / 16.0 + h * (acc1 - acc0) / 32.0

@@ -15,6 +15,7 @@ from microslip.model.coefficients import AREA_CN, EXPONENT
 from microslip.model.parameters import Parameters
 
 __all__ = [
+    "contact_side_stiffness",
     "elastic_force",
     "elastic_stiffness",
     "normal_reaction",
@@ -48,6 +49,23 @@ def elastic_stiffness(delta, c):
     if m2 == 2.0:
         return 2.0 * c[AREA_CN] * delta
     return m2 * c[AREA_CN] * delta ** (m2 - 1.0)
+
+
+@njit(cache=True, inline="always")
+def contact_side_stiffness(delta, c):
+    """The stiffness [N/m] seen from inside the contact: :func:`elastic_stiffness` for
+    δ > 0 and, for δ <= 0, its limit as δ -> 0+: S c_n for m2 = 1, 0 for m2 > 1.
+
+    A contact switch is located to just past δ = 0 (δ <= 0 there), and the side still in
+    contact needs the law's rate at its end: for m2 = 1 the force leaves with slope
+    S c_n δ̇, not 0. For m2 < 1 the limit is infinite; 0 is returned (no polynomial
+    follows δ^m2 at δ = 0).
+    """
+    if delta > 0.0:
+        return elastic_stiffness(delta, c)
+    if c[EXPONENT] == 1.0:
+        return c[AREA_CN]
+    return 0.0
 
 
 def reaction_array(params: Parameters, y: np.ndarray) -> np.ndarray:

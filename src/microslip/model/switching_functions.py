@@ -12,7 +12,8 @@ STICK_MARGIN, SLIDING_SPEED):
 * :func:`switch_active`: whether it can change anything in a mode; :func:`inside` and
   :func:`holds_only_inside`: which side of it the mode lives on;
 * :func:`separation_value`, :func:`separation_rate`: N_raw [N] with the elastic part
-  floored, and its rate, which the normal tape shares; :func:`in_contact`.
+  floored, and its rate, which the normal tape shares; :func:`contact_side_rate`, the
+  rate seen from inside the contact at a loss of contact; :func:`in_contact`.
 """
 
 from __future__ import annotations
@@ -21,7 +22,7 @@ from numba import njit
 
 from microslip import _jit_cache  # noqa: F401  (registers the cache before any @njit)
 from microslip.model.coefficients import GRAVITY, STATIC_DEFLECTION
-from microslip.model.contact import elastic_force, elastic_stiffness
+from microslip.model.contact import contact_side_stiffness, elastic_force, elastic_stiffness
 from microslip.model.damping import can_separate_in_overlap, damped_force, damped_force_partials
 from microslip.model.drive import drive_force, drive_force_rate
 from microslip.model.excitation import is_prescribed
@@ -51,6 +52,7 @@ from microslip.model.system import (
 from microslip.model.tangential import is_compliant
 
 __all__ = [
+    "contact_side_rate",
     "holds_only_inside",
     "in_contact",
     "inside",
@@ -95,13 +97,29 @@ def separation_value(delta, delta_rate, c):
 
 
 @njit(cache=True, inline="always")
-def separation_rate(delta, delta_rate, delta_accel, c):
-    """SEPARATION's rate [N/s] along the motion, given δ [m], δ̇ [m/s], δ̈ [m/s^2]."""
+def _rate_with_stiffness(delta, stiffness, delta_rate, delta_accel, c):
+    """dN_raw/dt [N/s] along the motion, the elastic part floored, given δ [m], the
+    elastic stiffness [N/m], δ̇ [m/s] and δ̈ [m/s^2]."""
     elastic = elastic_force(delta, c)
     if elastic < _ELASTIC_FLOOR:
         elastic = _ELASTIC_FLOOR
-    d_delta, d_rate = damped_force_partials(elastic, elastic_stiffness(delta, c), delta_rate, c)
+    d_delta, d_rate = damped_force_partials(elastic, stiffness, delta_rate, c)
     return d_delta * delta_rate + d_rate * delta_accel
+
+
+@njit(cache=True, inline="always")
+def separation_rate(delta, delta_rate, delta_accel, c):
+    """SEPARATION's rate [N/s] along the motion, given δ [m], δ̇ [m/s], δ̈ [m/s^2]."""
+    return _rate_with_stiffness(delta, elastic_stiffness(delta, c), delta_rate, delta_accel, c)
+
+
+@njit(cache=True, inline="always")
+def contact_side_rate(delta, delta_rate, delta_accel, c):
+    """dN_raw/dt [N/s] seen from inside the contact: :func:`separation_rate`, with the
+    stiffness's limit as δ -> 0+ where δ <= 0
+    (:func:`~microslip.model.contact.contact_side_stiffness`): at the end of a piece of
+    contact that a loss of contact closes (m2 = 1: N leaves with slope S c_n δ̇)."""
+    return _rate_with_stiffness(delta, contact_side_stiffness(delta, c), delta_rate, delta_accel, c)
 
 
 @njit(cache=True, inline="always")
