@@ -250,6 +250,12 @@ def body_acceleration(normal, t, s, mode, c):
     if is_compliant(c):
         if is_kinematic(c):
             return 0.0
+        if mode == 1.0 or mode == -1.0:
+            # In slip the spring force is on its limit, f = mode μ_k N: the limit itself,
+            # not the integrated f, whose rate μ_k Ṅ is singular at a touchdown
+            # (Ṅ ∝ δ^(m2-1) δ̇) and costs RK4 its order there.
+            friction = mode * kinetic_coefficient(0.0, c) * normal
+            return (drive_force(t, s[X], c) - friction) / c[MASS]
         return (drive_force(t, s[X], c) - s[FT]) / c[MASS]
     return _body_slip_acceleration(normal, t, s, mode, c)
 
