@@ -207,22 +207,34 @@ def node_accelerations(ys, summary, c, ydds):
 
 
 @njit(cache=True, inline="always")
-def _hermite_curvature(y0, v0, a0, y1, v1, a1, h, s):
-    """Second derivative [m/s^2] of the quintic Hermite of :func:`_hermite` at fraction s."""
-    s2 = s * s
-    s3 = s2 * s
-    e0 = -60.0 * s + 180.0 * s2 - 120.0 * s3
-    e1 = -36.0 * s + 96.0 * s2 - 60.0 * s3
-    e2 = 1.0 - 9.0 * s + 18.0 * s2 - 10.0 * s3
-    e3 = 3.0 * s - 12.0 * s2 + 10.0 * s3
-    e4 = -24.0 * s + 84.0 * s2 - 60.0 * s3
-    return (y0 - y1) * e0 / (h * h) + (v0 * e1 + v1 * e4) / h + a0 * e2 + a1 * e3
+def _interval_polynomial(k, ys, yds, ydds, h):
+    """(c0, ..., c5): the quintic Hermite of :func:`_hermite` on table interval k as a
+    polynomial in s, y(s) = Σ c_j s^j [m]. Built once per root, so that each Newton step
+    is three Horner sums instead of the eleven basis polynomials. The node difference
+    y1 - y0 is taken first (the node values are ~|y|, far above the increments)."""
+    d = ys[k + 1] - ys[k]
+    p0, p1 = h * yds[k], h * yds[k + 1]
+    q0, q1 = h * h * ydds[k], h * h * ydds[k + 1]
+    c3 = 10.0 * d - 6.0 * p0 - 4.0 * p1 - 1.5 * q0 + 0.5 * q1
+    c4 = -15.0 * d + 8.0 * p0 + 7.0 * p1 + 1.5 * q0 - q1
+    c5 = 6.0 * d - 3.0 * p0 - 3.0 * p1 - 0.5 * q0 + 0.5 * q1
+    return ys[k], p0, 0.5 * q0, c3, c4, c5
+
+
+@njit(cache=True, inline="always")
+def _polynomial_state(c, h, s):
+    """(y [m], ẏ [m/s], ÿ [m/s^2]) at fraction s of the interval of polynomial ``c``."""
+    y = c[0] + s * (c[1] + s * (c[2] + s * (c[3] + s * (c[4] + s * c[5]))))
+    slope = c[1] + s * (2.0 * c[2] + s * (3.0 * c[3] + s * (4.0 * c[4] + s * 5.0 * c[5])))
+    curvature = 2.0 * c[2] + s * (6.0 * c[3] + s * (12.0 * c[4] + s * 20.0 * c[5]))
+    return y, slope / h, curvature / (h * h)
 
 
 @njit(cache=True, inline="always")
 def table_state(k, s, ys, yds, ydds, h):
     """(y [m], ẏ [m/s]) at fraction s of table interval k (node times k h, k h + h)."""
-    return _hermite(ys[k], yds[k], ydds[k], ys[k + 1], yds[k + 1], ydds[k + 1], h, s)
+    y, yd, _ydd = _polynomial_state(_interval_polynomial(k, ys, yds, ydds, h), h, s)
+    return y, yd
 
 
 @njit(cache=True, inline="always")
@@ -259,12 +271,11 @@ def interval_root(k, s, s_lo, s_hi, w_y, w_v, gamma, const, tol, ys, yds, ydds, 
     f(s_lo) <= 0 to f(s_hi) >= 0. Newton from the guess s, with bisection whenever a step
     leaves the bracket, until a step or the bracket is below ``tol`` (fraction units).
     """
-    y_a, v_a, a_a = ys[k], yds[k], ydds[k]
-    y_b, v_b, a_b = ys[k + 1], yds[k + 1], ydds[k + 1]
+    poly = _interval_polynomial(k, ys, yds, ydds, h)
     if not (s_lo < s < s_hi):
         s = 0.5 * (s_lo + s_hi)
     for _ in range(100):
-        y, yd = _hermite(y_a, v_a, a_a, y_b, v_b, a_b, h, s)
+        y, yd, ydd = _polynomial_state(poly, h, s)
         f = w_y * y + w_v * yd + gamma * s + const
         if f < 0.0:
             s_lo = s
@@ -274,9 +285,7 @@ def interval_root(k, s, s_lo, s_hi, w_y, w_v, gamma, const, tol, ys, yds, ydds, 
         # creep on in steps of that noise, ~1e-11 of the interval near a turning point).
         if abs(f) <= _F_NOISE * (abs(w_y * y) + abs(w_v * yd) + abs(gamma * s) + abs(const)):
             break
-        slope = w_y * yd * h + gamma
-        if w_v != 0.0:
-            slope += w_v * h * _hermite_curvature(y_a, v_a, a_a, y_b, v_b, a_b, h, s)
+        slope = w_y * yd * h + gamma + w_v * h * ydd
         s_new = s - f / slope if slope > 0.0 else 0.5 * (s_lo + s_hi)
         if not (s_lo < s_new < s_hi):
             s_new = 0.5 * (s_lo + s_hi)
@@ -287,9 +296,10 @@ def interval_root(k, s, s_lo, s_hi, w_y, w_v, gamma, const, tol, ys, yds, ydds, 
     return s
 
 
-# A compiled call, not inlined: inlined into the map's parallel loop it made that loop's
-# compile ~3 s longer, for no measurable gain per point (~90 ns either way).
-@njit(cache=True, error_model="numpy")
+# Inlined into its callers (a compiled call per point passes four arrays, whose reference
+# counting cost ~25 ns of ~155 per point); those are small loops, not the map's parallel
+# loop, whose compile it made ~7 s longer.
+@njit(cache=True, error_model="numpy", inline="always")
 def steady_slip(y_release, accel, mu, ys, yds, ydds, summary):
     """(slip time [s], slip distance [m], peak speed [m/s], t_d [s]) of the steady cycle.
 

@@ -117,6 +117,29 @@ def _no_vibration(force, c):
     return 0.0 if force <= c[MU] * c[MASS] * c[GRAVITY] else math.inf
 
 
+@njit(cache=True, error_model="numpy")
+def _force_lane(first, stride, forces, y_release, accel, c, ys, yds, ydds, summary, out, j):
+    """out[i, j] = mean velocity [m/s] for forces i = first, first + stride, ... on one
+    amplitude's orbit table (a work unit of :func:`mean_velocity_grid`; one compiled call
+    per unit, with :func:`orbit.steady_slip` inlined: per point, a call would count the
+    table's arrays)."""
+    mu = c[MU]
+    limit = mu * c[MASS] * c[GRAVITY]
+    period = 2.0 * summary[orbit.O_HALF]
+    threshold = mu * elastic_force(summary[orbit.O_TOP], c)
+    for i in range(first, forces.shape[0], stride):
+        force = forces[i]
+        if not force > threshold:
+            out[i, j] = 0.0
+        elif force > limit:
+            out[i, j] = math.inf
+        else:
+            _t, distance, _p, _d = orbit.steady_slip(
+                y_release[i], accel[i], mu, ys, yds, ydds, summary
+            )
+            out[i, j] = distance / period
+
+
 @njit(cache=True, parallel=True)
 def mean_velocity_grid(forces, amplitudes, c, steps, out):
     """out[i, j] = mean velocity [m/s] at forces[i] [N], amplitudes[j] [m].
@@ -166,19 +189,10 @@ def mean_velocity_grid(forces, amplitudes, c, steps, out):
                 continue
             if state[b] == 2:
                 continue
-            period = 2.0 * summary[b, orbit.O_HALF]
-            threshold = mu * elastic_force(summary[b, orbit.O_TOP], c)
-            for i in range(unit % lanes, n_f, lanes):
-                force = forces[i]
-                if not force > threshold:
-                    out[i, j] = 0.0
-                elif force > limit:
-                    out[i, j] = math.inf
-                else:
-                    _t, distance, _p, _d = orbit.steady_slip(
-                        y_release[i], accel[i], mu, ys[b], yds[b], ydds[b], summary[b]
-                    )
-                    out[i, j] = distance / period
+            _force_lane(
+                unit % lanes, lanes, forces, y_release, accel, c, ys[b], yds[b], ydds[b],
+                summary[b], out, j,
+            )  # fmt: skip
         for b in range(count):
             failed = failed or state[b] == 2
     return not failed
