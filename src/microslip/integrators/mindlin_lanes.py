@@ -31,6 +31,8 @@ from numba import njit, parallel_chunksize, prange
 from microslip import _jit_cache  # noqa: F401  (registers the cache before any @njit)
 from microslip.integrators import mindlin_lane_law as law
 from microslip.integrators import normal_tape as nt
+from microslip.integrators import periodic_tape
+from microslip.integrators.periodic_tape import cycle_periods
 from microslip.integrators.shared_lanes import LANE_STALLED, OK, raise_on_failure
 from microslip.integrators.spring_lanes import (
     FLAG,
@@ -125,15 +127,16 @@ def _vector_pass(lanes, n, a, piece, h_int, h2_kint):
 
 
 @njit(cache=True)
-def _run_group(c, y0, ydot0, ratio, t_end, dt, lanes, switches, flagged):
+def _run_group(c, y0, ydot0, ratio, period, t_end, dt, lanes, switches, flagged):
     """One normal set-up and its lanes, in place; returns the status."""
     n = lanes.shape[1]
     piece = np.zeros(law.PIECE)
     law.set_setup(piece, c[MASS], c[GRAVITY], ratio)
     flying = start_lanes(c, y0, ydot0, lanes, n)
     carry, tape, work = nt.tape_buffers(y0, ydot0)
+    cycle, shape = periodic_tape.cycle_rows(c, y0, ydot0, period, t_end, dt)
     while True:
-        rows, tape_status = nt.fill_tape(carry, c, t_end, dt, tape, work)
+        rows, tape_status = periodic_tape.next_rows(carry, c, t_end, dt, tape, work, cycle, shape)
         if tape_status > 1:
             return tape_status
         for r in range(rows):
@@ -169,16 +172,16 @@ def _run_group(c, y0, ydot0, ratio, t_end, dt, lanes, switches, flagged):
 
 
 @njit(cache=True, parallel=True)
-def _run_groups(normal_c, y0, ydot0, ratio, starts, lanes, switches, flagged, status, t_end,
-                dt):  # fmt: skip
+def _run_groups(normal_c, y0, ydot0, ratio, periods, starts, lanes, switches, flagged, status,
+                t_end, dt):  # fmt: skip
     for g in prange(normal_c.shape[0]):
         lo, hi = starts[g], starts[g + 1]
         group_lanes = np.ascontiguousarray(lanes[:, lo:hi])
         group_switches = np.zeros(hi - lo, dtype=np.int64)
         group_flagged = np.zeros(hi - lo, dtype=np.int64)
         status[g] = _run_group(
-            normal_c[g].copy(), y0[g], ydot0[g], ratio[g], t_end, dt, group_lanes,
-            group_switches, group_flagged,
+            normal_c[g].copy(), y0[g], ydot0[g], ratio[g], periods[g], t_end, dt,
+            group_lanes, group_switches, group_flagged,
         )  # fmt: skip
         lanes[:, lo:hi] = group_lanes
         switches[lo:hi] = group_switches
@@ -186,7 +189,7 @@ def _run_groups(normal_c, y0, ydot0, ratio, starts, lanes, switches, flagged, st
 
 
 def run_mindlin_lanes(normal_coeffs, normal_states0, ratio, group_of_lane, forces, mu_static,
-                      mu_kinetic, t_end, dt):  # fmt: skip
+                      mu_kinetic, t_end, dt, periods=None):  # fmt: skip
     """Final states of many compliant lanes of Mindlin stiffness on shared normal
     motions, each from rest with a relaxed spring (SI).
 
@@ -199,6 +202,8 @@ def run_mindlin_lanes(normal_coeffs, normal_states0, ratio, group_of_lane, force
     group_of_lane : (L,) int, the set-up of each lane, non-decreasing.
     forces : (L,) constant tangential force F [N]; mu_static, mu_kinetic : (L,) [-].
     t_end : end time [s]; dt : RK4 step of the normal motion [s] (grid k·dt).
+    periods : (G,) period [s] of each set-up's periodic normal motion, else 0 (default:
+        all 0): :func:`~microslip.integrators.shared_lanes.run_shared`.
 
     Returns (x [m], ẋ [m/s], f [N], mode, switches, flagged) per lane at ``t_end``
     (mode 0 stick, ±1 slip, 2 flight). ValueError for a contact exponent m2 it does not
@@ -224,8 +229,9 @@ def run_mindlin_lanes(normal_coeffs, normal_states0, ratio, group_of_lane, force
     status = np.zeros(n_groups, dtype=np.int64)
     with parallel_chunksize(1):
         _run_groups(
-            normal_coeffs, states0[:, 0].copy(), states0[:, 1].copy(), ratio, starts, lanes,
-            switches, flagged, status, float(t_end), float(dt),
+            normal_coeffs, states0[:, 0].copy(), states0[:, 1].copy(), ratio,
+            cycle_periods(periods, n_groups), starts, lanes, switches, flagged, status,
+            float(t_end), float(dt),
         )  # fmt: skip
     coarse = np.flatnonzero(status == STEP_TOO_COARSE)
     if coarse.size:

@@ -26,6 +26,8 @@ from numba import njit, parallel_chunksize, prange
 
 from microslip import _jit_cache  # noqa: F401  (registers the cache before any @njit)
 from microslip.integrators import normal_tape as nt
+from microslip.integrators import periodic_tape
+from microslip.integrators.periodic_tape import cycle_periods
 from microslip.integrators.rigid_lane_law import free_piece, lane_piece
 from microslip.model.coefficients import MASS
 from microslip.model.normal import normal_force
@@ -83,7 +85,7 @@ def start_modes(lanes, lo, hi, n0):
 
 
 @njit(cache=True)
-def _run_group(c, y0, ydot0, t_end, dt, lanes, switches, flagged):
+def _run_group(c, y0, ydot0, period, t_end, dt, lanes, switches, flagged):
     """One normal set-up and its lanes (rows FM ... FLAG of ``lanes``), sorted by
     decreasing |F|/μ_s, in place; returns the status. Only lanes [0, n_active) can be
     moving: past it every lane sticks, and one that a piece cannot release
@@ -94,8 +96,9 @@ def _run_group(c, y0, ydot0, t_end, dt, lanes, switches, flagged):
     while n_active > 0 and lanes[MODE, n_active - 1] == 0.0:
         n_active -= 1
     carry, tape, work = nt.tape_buffers(y0, ydot0)
+    cycle, shape = periodic_tape.cycle_rows(c, y0, ydot0, period, t_end, dt)
     while True:
-        rows, tape_status = nt.fill_tape(carry, c, t_end, dt, tape, work)
+        rows, tape_status = periodic_tape.next_rows(carry, c, t_end, dt, tape, work, cycle, shape)
         if tape_status > 1:
             return tape_status
         for r in range(rows):
@@ -139,15 +142,16 @@ def _run_group(c, y0, ydot0, t_end, dt, lanes, switches, flagged):
 
 
 @njit(cache=True, parallel=True)
-def _run_groups(normal_c, y0, ydot0, starts, lanes, switches, flagged, status, t_end, dt):
+def _run_groups(normal_c, y0, ydot0, periods, starts, lanes, switches, flagged, status, t_end,
+                dt):  # fmt: skip
     for g in prange(normal_c.shape[0]):
         lo, hi = starts[g], starts[g + 1]
         group_lanes = np.ascontiguousarray(lanes[:, lo:hi])
         group_switches = np.zeros(hi - lo, dtype=np.int64)
         group_flagged = np.zeros(hi - lo, dtype=np.int64)
         status[g] = _run_group(
-            normal_c[g].copy(), y0[g], ydot0[g], t_end, dt, group_lanes, group_switches,
-            group_flagged,
+            normal_c[g].copy(), y0[g], ydot0[g], periods[g], t_end, dt, group_lanes,
+            group_switches, group_flagged,
         )  # fmt: skip
         lanes[:, lo:hi] = group_lanes
         switches[lo:hi] = group_switches
@@ -155,7 +159,7 @@ def _run_groups(normal_c, y0, ydot0, starts, lanes, switches, flagged, status, t
 
 
 def run_shared(normal_coeffs, normal_states0, group_of_lane, forces, mu_static, mu_kinetic,
-               t_end, dt, x0=None, v0=None):  # fmt: skip
+               t_end, dt, x0=None, v0=None, periods=None):  # fmt: skip
     """Final tangential states of many lanes on shared normal motions (arrays, SI).
 
     Parameters
@@ -167,6 +171,9 @@ def run_shared(normal_coeffs, normal_states0, group_of_lane, forces, mu_static, 
     forces : (L,) constant tangential force F [N]; mu_static, mu_kinetic : (L,) [-].
     t_end : end time [s]; dt : RK4 step of the normal motion [s] (grid k·dt).
     x0, v0 : (L,) initial x [m] and ẋ [m/s] (default 0: at rest).
+    periods : (G,) period [s] of each set-up's normal motion where it is periodic from
+        t = 0 (a conservative free vibration), else 0 (default: all 0): one period's
+        tape is then repeated (:mod:`~microslip.integrators.periodic_tape`).
 
     Returns (x, ẋ, mode, switches, flagged) per lane at ``t_end``; raises RuntimeError
     if a normal integration or a lane fails.
@@ -182,8 +189,9 @@ def run_shared(normal_coeffs, normal_states0, group_of_lane, forces, mu_static, 
     status = np.zeros(normal_coeffs.shape[0], dtype=np.int64)
     with parallel_chunksize(1):
         _run_groups(
-            normal_coeffs, normal_states0[:, 0].copy(), normal_states0[:, 1].copy(), starts,
-            lanes, switches, flagged, status, float(t_end), float(dt),
+            normal_coeffs, normal_states0[:, 0].copy(), normal_states0[:, 1].copy(),
+            cycle_periods(periods, normal_coeffs.shape[0]), starts, lanes, switches, flagged,
+            status, float(t_end), float(dt),
         )  # fmt: skip
     raise_on_failure(status, "shared-normal kernel")
     return unpack_lanes(lanes, order, switches, flagged)

@@ -30,6 +30,7 @@ from numba import njit, prange
 
 from microslip import _jit_cache  # noqa: F401  (registers the cache before any @njit)
 from microslip.integrators import normal_tape as nt
+from microslip.integrators import periodic_tape
 from microslip.integrators.rigid_lane_law import free_piece, lane_piece
 from microslip.integrators.shared_lanes import (
     DIRECTION,
@@ -125,25 +126,51 @@ def _kernel():
 
 
 @njit(cache=True, parallel=True)
-def _fill_tapes(normal_c, carries, works, tapes, rows, status, t_end, dt):
+def _fill_tapes(normal_c, carries, works, tapes, rows, status, t_end, dt, cycles, offsets,
+                shapes):  # fmt: skip
     """The next block of every set-up's tape, in parallel over the set-ups: ``status``
-    1 = more to come (fill), 0 = done (no rows), > 1 = failed (no rows)."""
+    1 = more to come (fill), 0 = done (no rows), > 1 = failed (no rows). Set-up g's
+    periodic cycle (:func:`~microslip.integrators.periodic_tape.cycle_rows`) is
+    cycles[offsets[g]:offsets[g + 1]] with shapes[g] (period rows, tail rows, repeats,
+    period [s]); period rows 0: filled step by step."""
     for g in prange(normal_c.shape[0]):
         if status[g] != 1:
             rows[g] = 0
             continue
-        rows[g], status[g] = nt.fill_tape(carries[g], normal_c[g], t_end, dt, tapes[g],
-                                          works[g])  # fmt: skip
+        shape = (int(shapes[g, 0]), int(shapes[g, 1]), int(shapes[g, 2]), shapes[g, 3])
+        rows[g], status[g] = periodic_tape.next_rows(
+            carries[g], normal_c[g], t_end, dt, tapes[g], works[g],
+            cycles[offsets[g] : offsets[g + 1]], shape,
+        )  # fmt: skip
+
+
+def _cycles(normal_coeffs, normal_states0, periods, t_end, dt):
+    """(cycles, offsets, shapes) of :func:`_fill_tapes` for the set-ups' ``periods`` [s]
+    (:func:`~microslip.integrators.shared_lanes.run_shared`; None: none periodic)."""
+    n_groups = normal_coeffs.shape[0]
+    periods = periodic_tape.cycle_periods(periods, n_groups)
+    blocks, shapes = [np.empty((0, nt.ROW))], np.zeros((n_groups, 4))
+    for g in range(n_groups):
+        rows, shape = periodic_tape.cycle_rows(
+            normal_coeffs[g], normal_states0[g, 0], normal_states0[g, 1], periods[g], t_end, dt
+        )
+        blocks.append(rows)
+        shapes[g] = shape
+    offsets = np.cumsum([0] + [len(b) for b in blocks[1:]]).astype(np.int64)
+    return np.concatenate(blocks), offsets, shapes
 
 
 def run_blocks(kernel, normal_coeffs, normal_states0, n_lanes, t_end, dt, tape_rows, stream,
-               lane_args):  # fmt: skip
+               lane_args, periods=None):  # fmt: skip
     """Fill every set-up's tape block by block on the CPU cores and run
     ``kernel[blocks, THREADS_PER_BLOCK, stream](tapes, rows, *lane_args)`` on each block
     (one thread per lane; ``lane_args`` on the GPU, in ``stream``). Returns the status
     per set-up (0, or a normal integration's failure) once the work is queued: the
-    caller's copies back on ``stream`` wait for it."""
+    caller's copies back on ``stream`` wait for it. ``periods``: the set-ups' periodic
+    normal motions, as for :func:`~microslip.integrators.shared_lanes.run_shared`."""
     n_groups = normal_coeffs.shape[0]
+    t_end, dt = float(t_end), float(dt)
+    cycles = _cycles(normal_coeffs, normal_states0, periods, t_end, dt)
     carries = np.empty((n_groups, nt.CARRY))
     for g in range(n_groups):
         carries[g] = nt.start_tape(normal_states0[g, 0], normal_states0[g, 1])
@@ -161,9 +188,8 @@ def run_blocks(kernel, normal_coeffs, normal_states0, n_lanes, t_end, dt, tape_r
     d_rows = [cuda.device_array(n_groups, dtype=np.int64, stream=stream) for _ in range(2)]
     copied = [cuda.event(), cuda.event()]
     blocks = (n_lanes + THREADS_PER_BLOCK - 1) // THREADS_PER_BLOCK
-    t_end, dt = float(t_end), float(dt)
     b = 0
-    _fill_tapes(normal_coeffs, carries, works, tapes[b], rows[b], status, t_end, dt)
+    _fill_tapes(normal_coeffs, carries, works, tapes[b], rows[b], status, t_end, dt, *cycles)
     while np.all(status <= 1):
         d_tapes[b].copy_to_device(tapes[b], stream=stream)
         d_rows[b].copy_to_device(rows[b], stream=stream)
@@ -173,12 +199,13 @@ def run_blocks(kernel, normal_coeffs, normal_states0, n_lanes, t_end, dt, tape_r
             break
         b = 1 - b
         copied[b].synchronize()  # the host buffer's last copy (two blocks ago) is done
-        _fill_tapes(normal_coeffs, carries, works, tapes[b], rows[b], status, t_end, dt)
+        _fill_tapes(normal_coeffs, carries, works, tapes[b], rows[b], status, t_end, dt,
+                    *cycles)  # fmt: skip
     return np.where(status > 1, status, OK)
 
 
 def run_lanes(kernel, name, normal_coeffs, normal_states0, lanes, lane_group, t_end, dt,
-              tape_rows, before=(), after=()):  # fmt: skip
+              tape_rows, before=(), after=(), periods=None):  # fmt: skip
     """Run ``kernel`` over every block of tapes (:func:`run_blocks`) on ``lanes`` (rows x
     lanes, a column per lane, ``lane_group`` its set-up) and return (lanes, switches,
     flagged) from the GPU. The kernel takes (tapes, rows, lane_group, *before, lanes,
@@ -196,6 +223,7 @@ def run_lanes(kernel, name, normal_coeffs, normal_states0, lanes, lane_group, t_
             *(cuda.to_device(a, stream=stream) for a in before), d_lanes,
             *(cuda.to_device(a, stream=stream) for a in after), *counts,
         ),
+        periods,
     )  # fmt: skip
     lanes = d_lanes.copy_to_host(stream=stream)
     switches, flagged, stalled = (d.copy_to_host(stream=stream) for d in counts)
@@ -208,7 +236,8 @@ def run_lanes(kernel, name, normal_coeffs, normal_states0, lanes, lane_group, t_
 
 
 def run_shared_cuda(normal_coeffs, normal_states0, group_of_lane, forces, mu_static,
-                    mu_kinetic, t_end, dt, x0=None, v0=None, tape_rows=None):  # fmt: skip
+                    mu_kinetic, t_end, dt, x0=None, v0=None, tape_rows=None,
+                    periods=None):  # fmt: skip
     """:func:`~microslip.integrators.shared_lanes.run_shared` with the lanes on the GPU
     (same arguments and returns, SI units); ``tape_rows`` sets the pieces per set-up
     in a block of tapes (default: TAPE_ROWS, fewer where the block would exceed
@@ -233,6 +262,6 @@ def run_shared_cuda(normal_coeffs, normal_states0, group_of_lane, forces, mu_sta
     lane_group = np.repeat(np.arange(n_groups), np.diff(starts))
     lanes, switches, flagged = run_lanes(
         _kernel(), "shared-normal kernel (CUDA)", normal_coeffs, normal_states0, lanes,
-        lane_group, t_end, dt, tape_rows,
+        lane_group, t_end, dt, tape_rows, periods=periods,
     )  # fmt: skip
     return unpack_lanes(lanes, order, switches, flagged)

@@ -29,6 +29,8 @@ from numba import njit, parallel_chunksize, prange
 
 from microslip import _jit_cache  # noqa: F401  (registers the cache before any @njit)
 from microslip.integrators import normal_tape as nt
+from microslip.integrators import periodic_tape
+from microslip.integrators.periodic_tape import cycle_periods
 from microslip.integrators.shared_lanes import LANE_STALLED, OK, raise_on_failure
 from microslip.integrators.spring_lane_law import (
     FLIGHT,
@@ -171,7 +173,7 @@ def fly(lanes, n, h, flying):
 
 
 @njit(cache=True)
-def _run_group(c, y0, ydot0, k_t, t_end, dt, lanes, switches, flagged):
+def _run_group(c, y0, ydot0, k_t, period, t_end, dt, lanes, switches, flagged):
     """One normal set-up and its lanes, in place; returns the status."""
     n = lanes.shape[1]
     mass = c[MASS]
@@ -180,8 +182,9 @@ def _run_group(c, y0, ydot0, k_t, t_end, dt, lanes, switches, flagged):
     set_spring(piece, omega, k_t, mass, c[GRAVITY])
     flying = start_lanes(c, y0, ydot0, lanes, n)
     carry, tape, work = nt.tape_buffers(y0, ydot0)
+    cycle, shape = periodic_tape.cycle_rows(c, y0, ydot0, period, t_end, dt)
     while True:
-        rows, tape_status = nt.fill_tape(carry, c, t_end, dt, tape, work)
+        rows, tape_status = periodic_tape.next_rows(carry, c, t_end, dt, tape, work, cycle, shape)
         if tape_status > 1:
             return tape_status
         for r in range(rows):
@@ -216,16 +219,16 @@ def _run_group(c, y0, ydot0, k_t, t_end, dt, lanes, switches, flagged):
 
 
 @njit(cache=True, parallel=True)
-def _run_groups(normal_c, y0, ydot0, stiffness, starts, lanes, switches, flagged, status, t_end,
-                dt):  # fmt: skip
+def _run_groups(normal_c, y0, ydot0, stiffness, periods, starts, lanes, switches, flagged, status,
+                t_end, dt):  # fmt: skip
     for g in prange(normal_c.shape[0]):
         lo, hi = starts[g], starts[g + 1]
         group_lanes = np.ascontiguousarray(lanes[:, lo:hi])
         group_switches = np.zeros(hi - lo, dtype=np.int64)
         group_flagged = np.zeros(hi - lo, dtype=np.int64)
         status[g] = _run_group(
-            normal_c[g].copy(), y0[g], ydot0[g], stiffness[g], t_end, dt, group_lanes,
-            group_switches, group_flagged,
+            normal_c[g].copy(), y0[g], ydot0[g], stiffness[g], periods[g], t_end, dt,
+            group_lanes, group_switches, group_flagged,
         )  # fmt: skip
         lanes[:, lo:hi] = group_lanes
         switches[lo:hi] = group_switches
@@ -233,7 +236,7 @@ def _run_groups(normal_c, y0, ydot0, stiffness, starts, lanes, switches, flagged
 
 
 def run_spring_lanes(normal_coeffs, normal_states0, stiffness, group_of_lane, forces,
-                     mu_static, mu_kinetic, t_end, dt):  # fmt: skip
+                     mu_static, mu_kinetic, t_end, dt, periods=None):  # fmt: skip
     """Final states of many compliant lanes (a contact point on a spring of constant
     stiffness) on shared normal motions, each from rest with a relaxed spring (SI).
 
@@ -246,6 +249,8 @@ def run_spring_lanes(normal_coeffs, normal_states0, stiffness, group_of_lane, fo
     group_of_lane : (L,) int, the set-up of each lane, non-decreasing.
     forces : (L,) constant tangential force F [N]; mu_static, mu_kinetic : (L,) [-].
     t_end : end time [s]; dt : RK4 step of the normal motion [s] (grid k·dt).
+    periods : (G,) period [s] of each set-up's periodic normal motion, else 0 (default:
+        all 0): :func:`~microslip.integrators.shared_lanes.run_shared`.
 
     Returns (x [m], ẋ [m/s], f [N], mode, switches, flagged) per lane at ``t_end``
     (mode 0 stick, ±1 slip, 2 flight); raises RuntimeError if a normal integration or a
@@ -263,8 +268,9 @@ def run_spring_lanes(normal_coeffs, normal_states0, stiffness, group_of_lane, fo
     status = np.zeros(n_groups, dtype=np.int64)
     with parallel_chunksize(1):
         _run_groups(
-            normal_coeffs, states0[:, 0].copy(), states0[:, 1].copy(), stiffness, starts,
-            lanes, switches, flagged, status, float(t_end), float(dt),
+            normal_coeffs, states0[:, 0].copy(), states0[:, 1].copy(), stiffness,
+            cycle_periods(periods, n_groups), starts, lanes, switches, flagged, status,
+            float(t_end), float(dt),
         )  # fmt: skip
     raise_on_failure(status, "spring-lane kernel")
     return lanes[X], lanes[V], lanes[FS], lanes[MODE], switches, flagged

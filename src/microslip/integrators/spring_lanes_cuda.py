@@ -104,10 +104,12 @@ def _kernel():
 
 
 def run_spring_lanes_cuda(normal_coeffs, normal_states0, stiffness, group_of_lane, forces,
-                          mu_static, mu_kinetic, t_end, dt, tape_rows=None):  # fmt: skip
+                          mu_static, mu_kinetic, t_end, dt, tape_rows=None,
+                          periods=None):  # fmt: skip
     """:func:`~microslip.integrators.spring_lanes.run_spring_lanes` with the lanes on the
     GPU (same arguments and returns, SI units); ``tape_rows`` as for
-    :func:`~microslip.integrators.shared_lanes_cuda.run_shared_cuda`. Raises
+    :func:`~microslip.integrators.shared_lanes_cuda.run_shared_cuda`, ``periods`` as
+    for :func:`~microslip.integrators.shared_lanes.run_shared`. Raises
     RuntimeError when no GPU can be used or a normal integration or a lane fails."""
     reason = cuda_unavailable()
     if reason is not None:
@@ -133,6 +135,6 @@ def run_spring_lanes_cuda(normal_coeffs, normal_states0, stiffness, group_of_lan
     lane_group = np.repeat(np.arange(n_groups), np.diff(starts))
     lanes, switches, flagged = run_lanes(
         _kernel(), "spring-lane kernel (CUDA)", normal_coeffs, states0, lanes, lane_group,
-        t_end, dt, tape_rows, before=(setups,), after=(flying,),
+        t_end, dt, tape_rows, before=(setups,), after=(flying,), periods=periods,
     )  # fmt: skip
     return lanes[X], lanes[V], lanes[FS], lanes[MODE], switches, flagged

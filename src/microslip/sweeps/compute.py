@@ -163,6 +163,24 @@ def compliant_time_chunk(spec: SweepSpec, key: ChunkKey) -> np.ndarray:
     return result.mean_velocity.reshape(len(starts), forces.size).T
 
 
+def _normal_periods(models, normal0) -> np.ndarray:
+    """Period [s] of each set-up's normal motion where it is periodic from t = 0, else 0:
+    a conservative free vibration (no damping, no excitation) started at rest above its
+    equilibrium, T(A) of :func:`~microslip.analysis.free_vibration.free_period`. The
+    lanes then run on one period's tape, repeated
+    (:mod:`~microslip.integrators.periodic_tape`)."""
+    from microslip.analysis.free_vibration import free_period
+
+    periods = np.zeros(len(models))
+    for g, model in enumerate(models):
+        if model.damping is not None or model.excitation is not None or normal0[g, 1] != 0.0:
+            continue
+        amplitude = model.params.static_deflection - normal0[g, 0]
+        if 0.0 < amplitude <= model.params.max_amplitude:
+            periods[g] = free_period(model.params, amplitude)
+    return periods
+
+
 def _shared_run(models, normal0, forces, duration, dt, backend="cpu") -> np.ndarray:
     """x(duration) [m], shape (set-ups, forces), from rest on each normal set-up (one
     model per row of ``normal0``: y [m], ẏ [m/s] at t = 0) under every constant force
@@ -177,6 +195,7 @@ def _shared_run(models, normal0, forces, duration, dt, backend="cpu") -> np.ndar
 
     forces = np.asarray(forces, dtype=float)
     n_setups = normal0.shape[0]
+    periods = _normal_periods(models, normal0)
     packed = {id(model): normal_coefficients(model.pack(0.0)) for model in models}
     coeffs = np.array([packed[id(model)] for model in models])
     groups = np.repeat(np.arange(n_setups), forces.size)
@@ -186,20 +205,24 @@ def _shared_run(models, normal0, forces, duration, dt, backend="cpu") -> np.ndar
         from microslip.integrators.mindlin_lanes import run_mindlin_lanes
 
         ratio = [model.tangential.ratio for model in models]
-        x = run_mindlin_lanes(coeffs, normal0, ratio, groups, lane_forces, mu, mu, duration, dt)[0]
+        x = run_mindlin_lanes(coeffs, normal0, ratio, groups, lane_forces, mu, mu, duration, dt,
+                              periods=periods)[0]  # fmt: skip
     elif models[0].is_compliant:
         stiffness = [model.tangential.stiffness for model in models]
         if backend == "cuda":
             from microslip.integrators.spring_lanes_cuda import run_spring_lanes_cuda as run
         else:
             run = run_spring_lanes
-        x = run(coeffs, normal0, stiffness, groups, lane_forces, mu, mu, duration, dt)[0]
+        x = run(coeffs, normal0, stiffness, groups, lane_forces, mu, mu, duration, dt,
+                periods=periods)[0]  # fmt: skip
     elif backend == "cuda":
         from microslip.integrators.shared_lanes_cuda import run_shared_cuda
 
-        x = run_shared_cuda(coeffs, normal0, groups, lane_forces, mu, mu, duration, dt)[0]
+        x = run_shared_cuda(coeffs, normal0, groups, lane_forces, mu, mu, duration, dt,
+                            periods=periods)[0]  # fmt: skip
     else:
-        x = run_shared(coeffs, normal0, groups, lane_forces, mu, mu, duration, dt)[0]
+        x = run_shared(coeffs, normal0, groups, lane_forces, mu, mu, duration, dt,
+                       periods=periods)[0]  # fmt: skip
     return x.reshape(n_setups, forces.size)
 
 

@@ -1,0 +1,100 @@
+"""A periodic normal motion's tape: one period integrated, then repeated.
+
+A conservative free vibration (no damping, no excitation) is periodic: started at rest
+at its top it returns there after its period T(A) (docs/theory/free_vibration.md). Its
+tape (:mod:`microslip.integrators.normal_tape`) is then one period's pieces, repeated:
+:func:`cycle_rows` integrates one period by the tape's RK4 on the grid k T/n, n the
+whole number of steps of at most ``dt`` in T (so that a step ends at T), every contact
+switch located, and the last, partial period once on its own from the same start;
+:func:`next_rows` serves them, the k-th repeat shifted by k T, in place of
+:func:`~microslip.integrators.normal_tape.fill_tape`.
+
+The normal motion is then the same 4th-order approximation over every period: the
+phase error of a tape filled step by step, which grows by the RK4 error every period,
+is gone, and a set-up's lanes cost the integration of one period, not of the whole run
+(1/74 of it over the paper's 0.05 s). The caller gives T; a set-up without one (0) is
+filled step by step as before.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit
+
+from microslip import _jit_cache  # noqa: F401  (registers the cache before any @njit)
+from microslip.integrators import normal_tape as nt
+
+# A period takes at most this many pieces (steps and switches), else no cycle is kept.
+MAX_CYCLE_ROWS = nt.TAPE_ROWS
+
+
+def cycle_periods(periods, n_setups: int) -> np.ndarray:
+    """(G,) float array of the set-ups' periods [s] (0: not periodic), from ``periods``
+    (None: none periodic)."""
+    if periods is None:
+        return np.zeros(n_setups)
+    out = np.array(periods, dtype=np.float64).reshape(-1)
+    if out.shape != (n_setups,) or not np.all(np.isfinite(out) & (out >= 0.0)):
+        raise ValueError(f"periods must be {n_setups} finite values >= 0 s")
+    return out
+
+
+@njit(cache=True)
+def cycle_rows(c, y0, ydot0, period, t_end, dt):
+    """(rows, (period rows, tail rows, repeats, T [s])) of the normal motion from
+    (y0 [m], ẏ0 [m/s]) at t = 0 in coefficients ``c``, periodic with period T:
+    ``rows`` holds one period's pieces and then those of the last, partial one (up to
+    ``t_end`` [s]), with steps of at most ``dt`` [s]. No cycle (period rows 0) where
+    T <= 0, the run is shorter than two periods, or a period needs more than
+    MAX_CYCLE_ROWS pieces."""
+    none = (np.empty((0, nt.ROW)), (0, 0, 0, 0.0))
+    if not period > 0.0 or t_end < 2.0 * period:
+        return none
+    step = period / math.ceil(period / dt)
+    carry, tape, work = nt.tape_buffers(y0, ydot0)
+    period_rows, status = nt.fill_tape(carry, c, period, step, tape, work)
+    if status != 0:
+        return none
+    repeats = math.floor(t_end / period)
+    rest = t_end - repeats * period
+    tail_rows = 0
+    tail = np.empty((0, nt.ROW))
+    if rest > 0.0:
+        carry, tail, work = nt.tape_buffers(y0, ydot0)
+        tail_rows, status = nt.fill_tape(carry, c, rest, step, tail, work)
+        if status != 0:
+            return none
+    rows = np.empty((period_rows + tail_rows, nt.ROW))
+    rows[:period_rows] = tape[:period_rows]
+    rows[period_rows:] = tail[:tail_rows]
+    return rows, (period_rows, tail_rows, repeats, period)
+
+
+@njit(cache=True)
+def next_rows(carry, c, t_end, dt, tape, work, cycle, shape):
+    """(rows written, status) as :func:`~microslip.integrators.normal_tape.fill_tape`:
+    the next pieces of the repeated ``cycle`` (``shape`` from :func:`cycle_rows`) into
+    ``tape``, or, without a cycle, the next pieces of the step-by-step integration.
+    ``carry`` from :func:`~microslip.integrators.normal_tape.tape_buffers`; its grid
+    index counts the pieces served."""
+    period_rows, tail_rows, repeats, period = shape
+    if period_rows == 0:
+        return nt.fill_tape(carry, c, t_end, dt, tape, work)
+    repeated = repeats * period_rows
+    total = repeated + tail_rows
+    j = int(carry[nt.C_K])
+    rows = 0
+    while j < total and rows < tape.shape[0]:
+        if j < repeated:
+            source, shift = j % period_rows, (j // period_rows) * period
+        else:
+            source, shift = period_rows + j - repeated, repeats * period
+        for col in range(nt.ROW):
+            tape[rows, col] = cycle[source, col]
+        tape[rows, nt.T0] += shift
+        rows += 1
+        j += 1
+    carry[nt.C_K] = j
+    return rows, (0 if j >= total else 1)
