@@ -34,11 +34,11 @@ def _served_errors(amplitude, t_end, dt):
     c = nt.normal_coefficients(ms.Model(P).pack(0.0))
     start = Y0 - amplitude
     cycle, shape = pt.cycle_rows(c, start, 0.0, ms.free_period(P, amplitude), t_end, dt)
-    carry, tape, work = nt.tape_buffers(start, 0.0)
+    carry, tape, _work = nt.tape_buffers(start, 0.0)
     tau = np.linspace(0.0, 1.0, 9)
     first = last = covered = 0.0
     while True:
-        rows, status = pt.next_rows(carry, c, t_end, dt, tape, work, cycle, shape)
+        rows, status = pt.repeat_rows(carry, tape, cycle, shape)
         assert status in (0, 1)
         for r in range(rows):
             t = tape[r, nt.T0] + tau * tape[r, nt.H]

@@ -6,7 +6,7 @@ tape (:mod:`microslip.integrators.normal_tape`) is then one period's pieces, rep
 :func:`cycle_rows` integrates one period by the tape's RK4 on the grid k T/n, n the
 whole number of steps of at most ``dt`` in T (so that a step ends at T), every contact
 switch located, and the last, partial period once on its own from the same start;
-:func:`next_rows` serves them, the k-th repeat shifted by k T, in place of
+:func:`repeat_rows` serves them, the k-th repeat shifted by k T, in place of
 :func:`~microslip.integrators.normal_tape.fill_tape`.
 
 The normal motion is then the same 4th-order approximation over every period: the
@@ -73,15 +73,14 @@ def cycle_rows(c, y0, ydot0, period, t_end, dt):
 
 
 @njit(cache=True)
-def next_rows(carry, c, t_end, dt, tape, work, cycle, shape):
+def repeat_rows(carry, tape, cycle, shape):
     """(rows written, status) as :func:`~microslip.integrators.normal_tape.fill_tape`:
-    the next pieces of the repeated ``cycle`` (``shape`` from :func:`cycle_rows`) into
-    ``tape``, or, without a cycle, the next pieces of the step-by-step integration.
-    ``carry`` from :func:`~microslip.integrators.normal_tape.tape_buffers`; its grid
-    index counts the pieces served."""
+    the next pieces of the repeated ``cycle`` (``shape`` from :func:`cycle_rows`, with
+    period rows > 0) into ``tape``; ``carry`` from
+    :func:`~microslip.integrators.normal_tape.tape_buffers`, its grid index counting the
+    pieces served. (The kernels call fill_tape themselves where there is no cycle: one
+    more compiled caller of fill_tape costs seconds of cold compile.)"""
     period_rows, tail_rows, repeats, period = shape
-    if period_rows == 0:
-        return nt.fill_tape(carry, c, t_end, dt, tape, work)
     repeated = repeats * period_rows
     total = repeated + tail_rows
     j = int(carry[nt.C_K])

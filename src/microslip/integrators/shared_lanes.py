@@ -98,7 +98,10 @@ def _run_group(c, y0, ydot0, period, t_end, dt, lanes, switches, flagged):
     carry, tape, work = nt.tape_buffers(y0, ydot0)
     cycle, shape = periodic_tape.cycle_rows(c, y0, ydot0, period, t_end, dt)
     while True:
-        rows, tape_status = periodic_tape.next_rows(carry, c, t_end, dt, tape, work, cycle, shape)
+        if shape[0] > 0:
+            rows, tape_status = periodic_tape.repeat_rows(carry, tape, cycle, shape)
+        else:
+            rows, tape_status = nt.fill_tape(carry, c, t_end, dt, tape, work)
         if tape_status > 1:
             return tape_status
         for r in range(rows):

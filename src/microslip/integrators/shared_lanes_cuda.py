@@ -138,10 +138,12 @@ def _fill_tapes(normal_c, carries, works, tapes, rows, status, t_end, dt, cycles
             rows[g] = 0
             continue
         shape = (int(shapes[g, 0]), int(shapes[g, 1]), int(shapes[g, 2]), shapes[g, 3])
-        rows[g], status[g] = periodic_tape.next_rows(
-            carries[g], normal_c[g], t_end, dt, tapes[g], works[g],
-            cycles[offsets[g] : offsets[g + 1]], shape,
-        )  # fmt: skip
+        if shape[0] > 0:
+            cycle = cycles[offsets[g] : offsets[g + 1]]
+            rows[g], status[g] = periodic_tape.repeat_rows(carries[g], tapes[g], cycle, shape)
+        else:
+            rows[g], status[g] = nt.fill_tape(carries[g], normal_c[g], t_end, dt, tapes[g],
+                                              works[g])  # fmt: skip
 
 
 def _cycles(normal_coeffs, normal_states0, periods, t_end, dt):
