@@ -26,9 +26,6 @@ from numba import njit
 from microslip import _jit_cache  # noqa: F401  (registers the cache before any @njit)
 from microslip.integrators import normal_tape as nt
 
-# A period takes at most this many pieces (steps and switches), else no cycle is kept.
-MAX_CYCLE_ROWS = nt.TAPE_ROWS
-
 
 def cycle_periods(periods, n_setups: int) -> np.ndarray:
     """(G,) float array of the set-ups' periods [s] (0: not periodic), from ``periods``
@@ -48,7 +45,7 @@ def cycle_rows(c, y0, ydot0, period, t_end, dt):
     ``rows`` holds one period's pieces and then those of the last, partial one (up to
     ``t_end`` [s]), with steps of at most ``dt`` [s]. No cycle (period rows 0) where
     T <= 0, the run is shorter than two periods, or a period needs more than
-    MAX_CYCLE_ROWS pieces."""
+    :data:`~microslip.integrators.normal_tape.TAPE_ROWS` pieces (one tape's worth)."""
     none = (np.empty((0, nt.ROW)), (0, 0, 0, 0.0))
     if not period > 0.0 or t_end < 2.0 * period:
         return none
