@@ -32,7 +32,6 @@ from microslip import _jit_cache  # noqa: F401  (registers the cache before any 
 from microslip.integrators import mindlin_lane_law as law
 from microslip.integrators import normal_tape as nt
 from microslip.integrators import periodic_tape
-from microslip.integrators.periodic_tape import cycle_periods
 from microslip.integrators.shared_lanes import LANE_STALLED, OK, raise_on_failure
 from microslip.integrators.spring_lanes import (
     FLAG,
@@ -127,14 +126,13 @@ def _vector_pass(lanes, n, a, piece, h_int, h2_kint):
 
 
 @njit(cache=True)
-def _run_group(c, y0, ydot0, ratio, period, t_end, dt, lanes, switches, flagged):
+def _run_group(c, y0, ydot0, ratio, cycle, shape, t_end, dt, lanes, switches, flagged):
     """One normal set-up and its lanes, in place; returns the status."""
     n = lanes.shape[1]
     piece = np.zeros(law.PIECE)
     law.set_setup(piece, c[MASS], c[GRAVITY], ratio)
     flying = start_lanes(c, y0, ydot0, lanes, n)
     carry, tape, work = nt.tape_buffers(y0, ydot0)
-    cycle, shape = periodic_tape.cycle_rows(c, y0, ydot0, period, t_end, dt)
     while True:
         if shape[0] > 0:
             rows, tape_status = periodic_tape.repeat_rows(carry, tape, cycle, shape)
@@ -175,15 +173,16 @@ def _run_group(c, y0, ydot0, ratio, period, t_end, dt, lanes, switches, flagged)
 
 
 @njit(cache=True, parallel=True)
-def _run_groups(normal_c, y0, ydot0, ratio, periods, starts, lanes, switches, flagged, status,
-                t_end, dt):  # fmt: skip
+def _run_groups(normal_c, y0, ydot0, ratio, cycles, offsets, shapes, starts, lanes, switches,
+                flagged, status, t_end, dt):  # fmt: skip
     for g in prange(normal_c.shape[0]):
         lo, hi = starts[g], starts[g + 1]
         group_lanes = np.ascontiguousarray(lanes[:, lo:hi])
         group_switches = np.zeros(hi - lo, dtype=np.int64)
         group_flagged = np.zeros(hi - lo, dtype=np.int64)
+        cycle, shape = periodic_tape.group_cycle(cycles, offsets, shapes, g)
         status[g] = _run_group(
-            normal_c[g].copy(), y0[g], ydot0[g], ratio[g], periods[g], t_end, dt,
+            normal_c[g].copy(), y0[g], ydot0[g], ratio[g], cycle, shape, t_end, dt,
             group_lanes, group_switches, group_flagged,
         )  # fmt: skip
         lanes[:, lo:hi] = group_lanes
@@ -230,11 +229,11 @@ def run_mindlin_lanes(normal_coeffs, normal_states0, ratio, group_of_lane, force
     switches = np.zeros(n_lanes, dtype=np.int64)
     flagged = np.zeros(n_lanes, dtype=np.int64)
     status = np.zeros(n_groups, dtype=np.int64)
+    cycles = periodic_tape.cycles(normal_coeffs, states0, periods, t_end, dt)
     with parallel_chunksize(1):
         _run_groups(
-            normal_coeffs, states0[:, 0].copy(), states0[:, 1].copy(), ratio,
-            cycle_periods(periods, n_groups), starts, lanes, switches, flagged, status,
-            float(t_end), float(dt),
+            normal_coeffs, states0[:, 0].copy(), states0[:, 1].copy(), ratio, *cycles, starts,
+            lanes, switches, flagged, status, float(t_end), float(dt),
         )  # fmt: skip
     coarse = np.flatnonzero(status == STEP_TOO_COARSE)
     if coarse.size:

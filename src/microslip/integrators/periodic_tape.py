@@ -3,11 +3,11 @@
 A conservative free vibration (no damping, no excitation) is periodic: started at rest
 at its top it returns there after its period T(A) (docs/theory/free_vibration.md). Its
 tape (:mod:`microslip.integrators.normal_tape`) is then one period's pieces, repeated:
-:func:`cycle_rows` integrates one period by the tape's RK4 on the grid k T/n, n the
-whole number of steps of at most ``dt`` in T (so that a step ends at T), every contact
-switch located, and the last, partial period once on its own from the same start;
-:func:`repeat_rows` serves them, the k-th repeat shifted by k T, in place of
-:func:`~microslip.integrators.normal_tape.fill_tape`.
+:func:`cycle_rows` (:func:`cycles` for many set-ups) integrates one period by the
+tape's RK4 on the grid k T/n, n the whole number of steps of at most ``dt`` in T (so
+that a step ends at T), every contact switch located, and the last, partial period
+once on its own from the same start; :func:`repeat_rows` serves them, the k-th repeat
+shifted by k T, in place of :func:`~microslip.integrators.normal_tape.fill_tape`.
 
 The normal motion is then the same 4th-order approximation over every period: the
 phase error of a tape filled step by step, which grows by the RK4 error every period,
@@ -38,22 +38,25 @@ def cycle_periods(periods, n_setups: int) -> np.ndarray:
     return out
 
 
-@njit(cache=True)
 def cycle_rows(c, y0, ydot0, period, t_end, dt):
     """(rows, (period rows, tail rows, repeats, T [s])) of the normal motion from
     (y0 [m], ẏ0 [m/s]) at t = 0 in coefficients ``c``, periodic with period T:
     ``rows`` holds one period's pieces and then those of the last, partial one (up to
     ``t_end`` [s]), with steps of at most ``dt`` [s]. No cycle (period rows 0) where
     T <= 0, the run is shorter than two periods, or a period needs more than
-    :data:`~microslip.integrators.normal_tape.TAPE_ROWS` pieces (one tape's worth)."""
+    :data:`~microslip.integrators.normal_tape.TAPE_ROWS` pieces (one tape's worth).
+    Python around the compiled fill_tape: a compiled function that calls fill_tape
+    costs seconds of cold compile, and a period is ~200 pieces."""
     none = (np.empty((0, nt.ROW)), (0, 0, 0, 0.0))
     if not period > 0.0 or t_end < 2.0 * period:
         return none
+    c = np.ascontiguousarray(c, dtype=np.float64)
     step = period / math.ceil(period / dt)
     carry, tape, work = nt.tape_buffers(y0, ydot0)
     period_rows, status = nt.fill_tape(carry, c, period, step, tape, work)
     if status != 0:
         return none
+    period_rows = int(period_rows)
     repeats = math.floor(t_end / period)
     rest = t_end - repeats * period
     tail_rows = 0
@@ -63,10 +66,35 @@ def cycle_rows(c, y0, ydot0, period, t_end, dt):
         tail_rows, status = nt.fill_tape(carry, c, rest, step, tail, work)
         if status != 0:
             return none
+        tail_rows = int(tail_rows)
     rows = np.empty((period_rows + tail_rows, nt.ROW))
     rows[:period_rows] = tape[:period_rows]
     rows[period_rows:] = tail[:tail_rows]
     return rows, (period_rows, tail_rows, repeats, period)
+
+
+def cycles(normal_coeffs, normal_states0, periods, t_end, dt):
+    """(cycles, offsets, shapes) of every set-up g: its :func:`cycle_rows` are
+    cycles[offsets[g]:offsets[g + 1]], its shape the row shapes[g] (period rows, tail
+    rows, repeats, T [s]); ``periods`` as for :func:`cycle_periods`, [s]."""
+    n_groups = normal_coeffs.shape[0]
+    periods = cycle_periods(periods, n_groups)
+    blocks, shapes = [np.empty((0, nt.ROW))], np.zeros((n_groups, 4))
+    for g in range(n_groups):
+        rows, shape = cycle_rows(
+            normal_coeffs[g], normal_states0[g, 0], normal_states0[g, 1], periods[g], t_end, dt
+        )
+        blocks.append(rows)
+        shapes[g] = shape
+    offsets = np.cumsum([0] + [len(b) for b in blocks[1:]]).astype(np.int64)
+    return np.concatenate(blocks), offsets, shapes
+
+
+@njit(cache=True, inline="always")
+def group_cycle(cycles, offsets, shapes, g):
+    """(cycle, shape) of set-up g from :func:`cycles`, for :func:`repeat_rows`."""
+    shape = (int(shapes[g, 0]), int(shapes[g, 1]), int(shapes[g, 2]), shapes[g, 3])
+    return cycles[offsets[g] : offsets[g + 1]], shape
 
 
 @njit(cache=True)

@@ -27,7 +27,6 @@ from numba import njit, parallel_chunksize, prange
 from microslip import _jit_cache  # noqa: F401  (registers the cache before any @njit)
 from microslip.integrators import normal_tape as nt
 from microslip.integrators import periodic_tape
-from microslip.integrators.periodic_tape import cycle_periods
 from microslip.integrators.rigid_lane_law import free_piece, lane_piece
 from microslip.model.coefficients import MASS
 from microslip.model.normal import normal_force
@@ -85,7 +84,7 @@ def start_modes(lanes, lo, hi, n0):
 
 
 @njit(cache=True)
-def _run_group(c, y0, ydot0, period, t_end, dt, lanes, switches, flagged):
+def _run_group(c, y0, ydot0, cycle, shape, t_end, dt, lanes, switches, flagged):
     """One normal set-up and its lanes (rows FM ... FLAG of ``lanes``), sorted by
     decreasing |F|/μ_s, in place; returns the status. Only lanes [0, n_active) can be
     moving: past it every lane sticks, and one that a piece cannot release
@@ -96,7 +95,6 @@ def _run_group(c, y0, ydot0, period, t_end, dt, lanes, switches, flagged):
     while n_active > 0 and lanes[MODE, n_active - 1] == 0.0:
         n_active -= 1
     carry, tape, work = nt.tape_buffers(y0, ydot0)
-    cycle, shape = periodic_tape.cycle_rows(c, y0, ydot0, period, t_end, dt)
     while True:
         if shape[0] > 0:
             rows, tape_status = periodic_tape.repeat_rows(carry, tape, cycle, shape)
@@ -145,15 +143,16 @@ def _run_group(c, y0, ydot0, period, t_end, dt, lanes, switches, flagged):
 
 
 @njit(cache=True, parallel=True)
-def _run_groups(normal_c, y0, ydot0, periods, starts, lanes, switches, flagged, status, t_end,
-                dt):  # fmt: skip
+def _run_groups(normal_c, y0, ydot0, cycles, offsets, shapes, starts, lanes, switches, flagged,
+                status, t_end, dt):  # fmt: skip
     for g in prange(normal_c.shape[0]):
         lo, hi = starts[g], starts[g + 1]
         group_lanes = np.ascontiguousarray(lanes[:, lo:hi])
         group_switches = np.zeros(hi - lo, dtype=np.int64)
         group_flagged = np.zeros(hi - lo, dtype=np.int64)
+        cycle, shape = periodic_tape.group_cycle(cycles, offsets, shapes, g)
         status[g] = _run_group(
-            normal_c[g].copy(), y0[g], ydot0[g], periods[g], t_end, dt, group_lanes,
+            normal_c[g].copy(), y0[g], ydot0[g], cycle, shape, t_end, dt, group_lanes,
             group_switches, group_flagged,
         )  # fmt: skip
         lanes[:, lo:hi] = group_lanes
@@ -190,11 +189,11 @@ def run_shared(normal_coeffs, normal_states0, group_of_lane, forces, mu_static, 
     switches = np.zeros(n_lanes, dtype=np.int64)
     flagged = np.zeros(n_lanes, dtype=np.int64)
     status = np.zeros(normal_coeffs.shape[0], dtype=np.int64)
+    cycles = periodic_tape.cycles(normal_coeffs, normal_states0, periods, t_end, dt)
     with parallel_chunksize(1):
         _run_groups(
-            normal_coeffs, normal_states0[:, 0].copy(), normal_states0[:, 1].copy(),
-            cycle_periods(periods, normal_coeffs.shape[0]), starts, lanes, switches, flagged,
-            status, float(t_end), float(dt),
+            normal_coeffs, normal_states0[:, 0].copy(), normal_states0[:, 1].copy(), *cycles,
+            starts, lanes, switches, flagged, status, float(t_end), float(dt),
         )  # fmt: skip
     raise_on_failure(status, "shared-normal kernel")
     return unpack_lanes(lanes, order, switches, flagged)

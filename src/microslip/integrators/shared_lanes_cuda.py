@@ -129,37 +129,20 @@ def _kernel():
 def _fill_tapes(normal_c, carries, works, tapes, rows, status, t_end, dt, cycles, offsets,
                 shapes):  # fmt: skip
     """The next block of every set-up's tape, in parallel over the set-ups: ``status``
-    1 = more to come (fill), 0 = done (no rows), > 1 = failed (no rows). Set-up g's
-    periodic cycle (:func:`~microslip.integrators.periodic_tape.cycle_rows`) is
-    cycles[offsets[g]:offsets[g + 1]] with shapes[g] (period rows, tail rows, repeats,
-    period [s]); period rows 0: filled step by step."""
+    1 = more to come (fill), 0 = done (no rows), > 1 = failed (no rows). ``cycles``,
+    ``offsets``, ``shapes``: the set-ups' periodic cycles
+    (:func:`~microslip.integrators.periodic_tape.cycles`); without one (period rows 0)
+    a tape is filled step by step."""
     for g in prange(normal_c.shape[0]):
         if status[g] != 1:
             rows[g] = 0
             continue
-        shape = (int(shapes[g, 0]), int(shapes[g, 1]), int(shapes[g, 2]), shapes[g, 3])
+        cycle, shape = periodic_tape.group_cycle(cycles, offsets, shapes, g)
         if shape[0] > 0:
-            cycle = cycles[offsets[g] : offsets[g + 1]]
             rows[g], status[g] = periodic_tape.repeat_rows(carries[g], tapes[g], cycle, shape)
         else:
             rows[g], status[g] = nt.fill_tape(carries[g], normal_c[g], t_end, dt, tapes[g],
                                               works[g])  # fmt: skip
-
-
-def _cycles(normal_coeffs, normal_states0, periods, t_end, dt):
-    """(cycles, offsets, shapes) of :func:`_fill_tapes` for the set-ups' ``periods`` [s]
-    (:func:`~microslip.integrators.shared_lanes.run_shared`; None: none periodic)."""
-    n_groups = normal_coeffs.shape[0]
-    periods = periodic_tape.cycle_periods(periods, n_groups)
-    blocks, shapes = [np.empty((0, nt.ROW))], np.zeros((n_groups, 4))
-    for g in range(n_groups):
-        rows, shape = periodic_tape.cycle_rows(
-            normal_coeffs[g], normal_states0[g, 0], normal_states0[g, 1], periods[g], t_end, dt
-        )
-        blocks.append(rows)
-        shapes[g] = shape
-    offsets = np.cumsum([0] + [len(b) for b in blocks[1:]]).astype(np.int64)
-    return np.concatenate(blocks), offsets, shapes
 
 
 def run_blocks(kernel, normal_coeffs, normal_states0, n_lanes, t_end, dt, tape_rows, stream,
@@ -172,7 +155,7 @@ def run_blocks(kernel, normal_coeffs, normal_states0, n_lanes, t_end, dt, tape_r
     normal motions, as for :func:`~microslip.integrators.shared_lanes.run_shared`."""
     n_groups = normal_coeffs.shape[0]
     t_end, dt = float(t_end), float(dt)
-    cycles = _cycles(normal_coeffs, normal_states0, periods, t_end, dt)
+    cycles = periodic_tape.cycles(normal_coeffs, normal_states0, periods, t_end, dt)
     carries = np.empty((n_groups, nt.CARRY))
     for g in range(n_groups):
         carries[g] = nt.start_tape(normal_states0[g, 0], normal_states0[g, 1])

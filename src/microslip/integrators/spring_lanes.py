@@ -30,7 +30,6 @@ from numba import njit, parallel_chunksize, prange
 from microslip import _jit_cache  # noqa: F401  (registers the cache before any @njit)
 from microslip.integrators import normal_tape as nt
 from microslip.integrators import periodic_tape
-from microslip.integrators.periodic_tape import cycle_periods
 from microslip.integrators.shared_lanes import LANE_STALLED, OK, raise_on_failure
 from microslip.integrators.spring_lane_law import (
     FLIGHT,
@@ -173,7 +172,7 @@ def fly(lanes, n, h, flying):
 
 
 @njit(cache=True)
-def _run_group(c, y0, ydot0, k_t, period, t_end, dt, lanes, switches, flagged):
+def _run_group(c, y0, ydot0, k_t, cycle, shape, t_end, dt, lanes, switches, flagged):
     """One normal set-up and its lanes, in place; returns the status."""
     n = lanes.shape[1]
     mass = c[MASS]
@@ -182,7 +181,6 @@ def _run_group(c, y0, ydot0, k_t, period, t_end, dt, lanes, switches, flagged):
     set_spring(piece, omega, k_t, mass, c[GRAVITY])
     flying = start_lanes(c, y0, ydot0, lanes, n)
     carry, tape, work = nt.tape_buffers(y0, ydot0)
-    cycle, shape = periodic_tape.cycle_rows(c, y0, ydot0, period, t_end, dt)
     while True:
         if shape[0] > 0:
             rows, tape_status = periodic_tape.repeat_rows(carry, tape, cycle, shape)
@@ -222,15 +220,16 @@ def _run_group(c, y0, ydot0, k_t, period, t_end, dt, lanes, switches, flagged):
 
 
 @njit(cache=True, parallel=True)
-def _run_groups(normal_c, y0, ydot0, stiffness, periods, starts, lanes, switches, flagged, status,
-                t_end, dt):  # fmt: skip
+def _run_groups(normal_c, y0, ydot0, stiffness, cycles, offsets, shapes, starts, lanes, switches,
+                flagged, status, t_end, dt):  # fmt: skip
     for g in prange(normal_c.shape[0]):
         lo, hi = starts[g], starts[g + 1]
         group_lanes = np.ascontiguousarray(lanes[:, lo:hi])
         group_switches = np.zeros(hi - lo, dtype=np.int64)
         group_flagged = np.zeros(hi - lo, dtype=np.int64)
+        cycle, shape = periodic_tape.group_cycle(cycles, offsets, shapes, g)
         status[g] = _run_group(
-            normal_c[g].copy(), y0[g], ydot0[g], stiffness[g], periods[g], t_end, dt,
+            normal_c[g].copy(), y0[g], ydot0[g], stiffness[g], cycle, shape, t_end, dt,
             group_lanes, group_switches, group_flagged,
         )  # fmt: skip
         lanes[:, lo:hi] = group_lanes
@@ -269,11 +268,11 @@ def run_spring_lanes(normal_coeffs, normal_states0, stiffness, group_of_lane, fo
     switches = np.zeros(n_lanes, dtype=np.int64)
     flagged = np.zeros(n_lanes, dtype=np.int64)
     status = np.zeros(n_groups, dtype=np.int64)
+    cycles = periodic_tape.cycles(normal_coeffs, states0, periods, t_end, dt)
     with parallel_chunksize(1):
         _run_groups(
-            normal_coeffs, states0[:, 0].copy(), states0[:, 1].copy(), stiffness,
-            cycle_periods(periods, n_groups), starts, lanes, switches, flagged, status,
-            float(t_end), float(dt),
+            normal_coeffs, states0[:, 0].copy(), states0[:, 1].copy(), stiffness, *cycles, starts,
+            lanes, switches, flagged, status, float(t_end), float(dt),
         )  # fmt: skip
     raise_on_failure(status, "spring-lane kernel")
     return lanes[X], lanes[V], lanes[FS], lanes[MODE], switches, flagged
