@@ -6,10 +6,11 @@ Runs only where numba's CUDA target finds a GPU (otherwise it says why and exits
 Each job runs the same lanes through :func:`~microslip.integrators.shared_lanes.run_shared`
 (every CPU core) and :func:`~microslip.integrators.shared_lanes_cuda.run_shared_cuda`
 (tapes on the CPU cores, lanes on the GPU) on the same machine (for a TangentialSpring
-their spring-lane counterparts), warm (compile times
+or a MindlinSpring their spring- or Mindlin-lane counterparts), warm (compile times
 reported apart), best of three; and reports the GPU path's run time with the lanes
 skipped (the tapes alone: the CPU's share), the two paths' largest difference and,
-for the paper map, the error against the event method at rtol 1e-12 on sample points.
+for the 256-force paper and Mindlin maps, the error against the event method at rtol
+1e-12 on sample points.
 Prints one table and writes cuda_results.json to DIR (default benchmarks/out).
 """
 
@@ -26,6 +27,8 @@ import numpy as np
 
 import microslip as ms
 from microslip.integrators import shared_lanes_cuda as slc
+from microslip.integrators.mindlin_lanes import run_mindlin_lanes
+from microslip.integrators.mindlin_lanes_cuda import run_mindlin_lanes_cuda
 from microslip.integrators.normal_tape import normal_coefficients
 from microslip.integrators.shared_lanes import run_shared
 from microslip.integrators.spring_lanes import run_spring_lanes
@@ -81,6 +84,24 @@ def spring_lanes(n_forces, n_amplitudes):
     return coeffs, normal0, forces, amplitudes, dt, np.full(n_amplitudes, k_t)
 
 
+def mindlin_lanes(n_forces, n_amplitudes):
+    """The paper map's set-ups on MindlinSpring(0.8235), dt = 1/200 of the shorter of T0
+    and the body's tangential period at rest (k_t = λ K_n, the sweep's default)."""
+    coeffs, normal0, forces, amplitudes, _ = free_lanes(n_forces, n_amplitudes)
+    k_t = MINDLIN_RATIO * PARAMS.contact_stiffness
+    dt = min(T0, 2.0 * np.pi * np.sqrt(PARAMS.mass / k_t)) / 200
+    return coeffs, normal0, forces, amplitudes, dt, np.full(n_amplitudes, MINDLIN_RATIO)
+
+
+# The kernels a job runs on the CPU and the GPU, and the switch counts' column.
+KERNELS = {
+    "rigid": (run_shared, slc.run_shared_cuda, 3),
+    "spring": (run_spring_lanes, run_spring_lanes_cuda, 4),
+    "mindlin": (run_mindlin_lanes, run_mindlin_lanes_cuda, 4),
+}
+MINDLIN_RATIO = 0.8235
+
+
 def lane_arrays(coeffs, forces):
     n_groups = coeffs.shape[0]
     groups = np.repeat(np.arange(n_groups), forces.size)
@@ -89,15 +110,13 @@ def lane_arrays(coeffs, forces):
     return groups, lane_forces, mu
 
 
-def job(name, setup, n_forces, n_amplitudes, rows, event_check=False):
-    coeffs, normal0, forces, amplitudes, dt, *stiffness = setup(n_forces, n_amplitudes)
+def job(name, setup, n_forces, n_amplitudes, rows, kind="rigid", event_model=None):
+    """One row: ``setup``'s lanes on the ``kind`` kernels (KERNELS); with ``event_model``
+    (the model of the lanes), the GPU's error against the event method at five points."""
+    coeffs, normal0, forces, amplitudes, dt, *spring = setup(n_forces, n_amplitudes)
     groups, lane_forces, mu = lane_arrays(coeffs, forces)
-    if stiffness:
-        args = (coeffs, normal0, stiffness[0], groups, lane_forces, mu, mu, DURATION, dt)
-        on_cpu, on_gpu = run_spring_lanes, run_spring_lanes_cuda
-    else:
-        args = (coeffs, normal0, groups, lane_forces, mu, mu, DURATION, dt)
-        on_cpu, on_gpu = run_shared, slc.run_shared_cuda
+    args = (coeffs, normal0, *spring, groups, lane_forces, mu, mu, DURATION, dt)
+    on_cpu, on_gpu, n_switches = KERNELS[kind]
     cpu, cpu_s = best_time(on_cpu, *args)
     gpu, gpu_s = best_time(on_gpu, *args)
     tapes_s = best_time(_tapes_only, coeffs, normal0, DURATION, dt)[1]
@@ -106,7 +125,6 @@ def job(name, setup, n_forces, n_amplitudes, rows, event_check=False):
     v_cpu, v_gpu = cpu[0] / DURATION, gpu[0] / DURATION
     scale = np.abs(v_cpu).max()
     diff = float(np.abs(v_gpu - v_cpu).max() / scale)
-    n_switches = 4 if stiffness else 3  # the switch counts' column
     row = {
         "job": f"{name}, {n_forces}x{n_amplitudes}, {DURATION} s",
         "cpu_s": cpu_s,
@@ -119,14 +137,15 @@ def job(name, setup, n_forces, n_amplitudes, rows, event_check=False):
         "switches": int(gpu[n_switches].sum()),
         "switches_cpu": int(cpu[n_switches].sum()),
     }
-    if event_check:
+    if event_model is not None:
         rng = np.random.default_rng(1)
         errors, reference = [], []
         for _ in range(5):
             i, j = rng.integers(n_forces), rng.integers(n_amplitudes)
             run = ms.simulate(
-                PARAMS, force=forces[i], amplitude=amplitudes[j], duration=DURATION, rtol=1e-12
-            )
+                event_model, force=forces[i], amplitude=amplitudes[j], duration=DURATION,
+                rtol=1e-12,
+            )  # fmt: skip
             reference.append(run.x[-1] / DURATION)
             errors.append(abs(v_gpu.reshape(n_amplitudes, n_forces)[j, i] - reference[-1]))
         row["gpu_vs_event"] = float(max(errors) / max(np.abs(reference).max(), scale))
@@ -164,23 +183,29 @@ def main(argv=None) -> int:
     compile_started = time.perf_counter()
     tiny = free_lanes(2, 2)
     groups, lane_forces, mu = lane_arrays(tiny[0], tiny[2])
-    k_t = np.full(2, PARAMS.contact_stiffness)
-    run_shared(tiny[0], tiny[1], groups, lane_forces, mu, mu, 20 * tiny[4], tiny[4])
-    run_spring_lanes(tiny[0], tiny[1], k_t, groups, lane_forces, mu, mu, 20 * tiny[4], tiny[4])
-    cpu_compile = time.perf_counter() - compile_started
-    compile_started = time.perf_counter()
-    slc.run_shared_cuda(tiny[0], tiny[1], groups, lane_forces, mu, mu, 20 * tiny[4], tiny[4])
-    run_spring_lanes_cuda(tiny[0], tiny[1], k_t, groups, lane_forces, mu, mu, 20 * tiny[4], tiny[4])
-    info["compile_cpu_s"] = cpu_compile
-    info["compile_gpu_path_s"] = time.perf_counter() - compile_started
+    spring = {
+        "rigid": (),
+        "spring": (np.full(2, PARAMS.contact_stiffness),),
+        "mindlin": (np.full(2, MINDLIN_RATIO),),
+    }
+    for side in (0, 1):  # the CPU kernels, then the GPU path (its kernels and tapes)
+        compile_started = time.perf_counter()
+        for kind, kernels in KERNELS.items():
+            kernels[side](tiny[0], tiny[1], *spring[kind], groups, lane_forces, mu, mu,
+                          20 * tiny[4], tiny[4])  # fmt: skip
+        info[("compile_cpu_s", "compile_gpu_path_s")[side]] = time.perf_counter() - compile_started
     print(json.dumps(info), flush=True)
     rows = []
     sizes = [(64, 64)] if args.quick else [(256, 256), (1024, 256)]
     for n_forces, n_amplitudes in sizes:
-        job("paper", free_lanes, n_forces, n_amplitudes, rows, event_check=n_forces == 256)
+        event_model = ms.Model(PARAMS) if n_forces == 256 else None
+        job("paper", free_lanes, n_forces, n_amplitudes, rows, event_model=event_model)
     job("Viscous(0.05)+HarmonicForce", forced_lanes, 256, 16 if args.quick else 64, rows)
+    mindlin = ms.Model(PARAMS, tangential=ms.MindlinSpring(MINDLIN_RATIO))
     for n_forces, n_amplitudes in [(64, 16)] if args.quick else [(256, 64), (1024, 256)]:
-        job("TangentialSpring(K_n)", spring_lanes, n_forces, n_amplitudes, rows)
+        job("TangentialSpring(K_n)", spring_lanes, n_forces, n_amplitudes, rows, "spring")
+        job(f"MindlinSpring({MINDLIN_RATIO})", mindlin_lanes, n_forces, n_amplitudes, rows,
+            "mindlin", event_model=mindlin if n_forces == 256 else None)  # fmt: skip
     print(f"\n{'job':46} {'CPU s':>8} {'GPU s':>8} {'tapes s':>8} {'GPU steps*traj/s':>17} "
           f"{'x CPU':>6} {'|GPU-CPU|':>9}")  # fmt: skip
     for row in rows:

@@ -178,7 +178,7 @@ def _add_sweeps(sub) -> None:
         p.add_argument("--dt", type=finite, help="time method: RK4 step [s]")
         p.add_argument(
             "--backend", choices=("cpu", "cuda"),
-            help="time method, rigid or spring contact: run the lanes on an NVIDIA GPU",
+            help="time method (rigid, spring or mindlin contact): run the lanes on an NVIDIA GPU",
         )  # fmt: skip
         p.add_argument("--scheduler", help="Dask scheduler address tcp://HOST:PORT")
         p.add_argument("--workers", type=integer, help="start a local Dask cluster of N workers")

@@ -215,12 +215,7 @@ def run_mindlin_lanes(normal_coeffs, normal_states0, ratio, group_of_lane, force
     """
     normal_coeffs = np.ascontiguousarray(normal_coeffs, dtype=np.float64)
     states0 = np.asarray(normal_states0, dtype=np.float64)
-    for m2 in np.unique(normal_coeffs[:, EXPONENT]):
-        if not supports_exponent(float(m2)):
-            raise ValueError(
-                f"m2 = {float(m2)!r}: the Mindlin-lane kernel runs m2 = 1, 2 or >= 3 (k_t ∝ "
-                "δ^(m2-1) is not smooth at touchdown otherwise); use the batched kernel"
-            )
+    check_exponents(normal_coeffs)
     lanes, starts, ratio = pack_lanes(
         normal_coeffs, ratio, group_of_lane, forces, mu_static, mu_kinetic, what="ratio"
     )
@@ -235,11 +230,28 @@ def run_mindlin_lanes(normal_coeffs, normal_states0, ratio, group_of_lane, force
             normal_coeffs, states0[:, 0].copy(), states0[:, 1].copy(), ratio, *cycles, starts,
             lanes, switches, flagged, status, float(t_end), float(dt),
         )  # fmt: skip
-    coarse = np.flatnonzero(status == STEP_TOO_COARSE)
-    if coarse.size:
-        raise ValueError(
-            f"dt = {dt!r} s is too coarse for the Mindlin tangential oscillation of set-up "
-            f"{int(coarse[0])} (h sqrt(k_t/m) > {law.MAX_THETA} on a piece): use a smaller dt"
-        )
+    raise_if_too_coarse(status == STEP_TOO_COARSE, dt)
     raise_on_failure(status, "Mindlin-lane kernel")
     return lanes[X], lanes[V], lanes[FS], lanes[MODE], switches, flagged
+
+
+def check_exponents(normal_coeffs: np.ndarray) -> None:
+    """ValueError in one line for a set-up whose contact exponent m2 these lanes do not
+    run (:func:`supports_exponent`)."""
+    for m2 in np.unique(normal_coeffs[:, EXPONENT]):
+        if not supports_exponent(float(m2)):
+            raise ValueError(
+                f"m2 = {float(m2)!r}: the Mindlin-lane kernel runs m2 = 1, 2 or >= 3 (k_t ∝ "
+                "δ^(m2-1) is not smooth at touchdown otherwise); use the batched kernel"
+            )
+
+
+def raise_if_too_coarse(coarse: np.ndarray, dt: float) -> None:
+    """ValueError in one line naming the first set-up marked in ``coarse`` (G,), where a
+    piece's θ = h sqrt(k_t/m) exceeded MAX_THETA."""
+    marked = np.flatnonzero(coarse)
+    if marked.size:
+        raise ValueError(
+            f"dt = {dt!r} s is too coarse for the Mindlin tangential oscillation of set-up "
+            f"{int(marked[0])} (h sqrt(k_t/m) > {law.MAX_THETA} on a piece): use a smaller dt"
+        )

@@ -146,13 +146,15 @@ def _fill_tapes(normal_c, carries, works, tapes, rows, status, t_end, dt, cycles
 
 
 def run_blocks(kernel, normal_coeffs, normal_states0, n_lanes, t_end, dt, tape_rows, stream,
-               lane_args, periods=None):  # fmt: skip
+               lane_args, periods=None, prepare=None):  # fmt: skip
     """Fill every set-up's tape block by block on the CPU cores and run
     ``kernel[blocks, THREADS_PER_BLOCK, stream](tapes, rows, *lane_args)`` on each block
-    (one thread per lane; ``lane_args`` on the GPU, in ``stream``). Returns the status
-    per set-up (0, or a normal integration's failure) once the work is queued: the
-    caller's copies back on ``stream`` wait for it. ``periods``: the set-ups' periodic
-    normal motions, as for :func:`~microslip.integrators.shared_lanes.run_shared`."""
+    (one thread per lane; ``lane_args`` on the GPU, in ``stream``), after
+    ``prepare(tapes, rows, stream)`` where given (work per block that the lanes share,
+    queued on the same stream). Returns the status per set-up (0, or a normal
+    integration's failure) once the work is queued: the caller's copies back on
+    ``stream`` wait for it. ``periods``: the set-ups' periodic normal motions, as for
+    :func:`~microslip.integrators.shared_lanes.run_shared`."""
     n_groups = normal_coeffs.shape[0]
     t_end, dt = float(t_end), float(dt)
     cycles = periodic_tape.cycles(normal_coeffs, normal_states0, periods, t_end, dt)
@@ -179,6 +181,8 @@ def run_blocks(kernel, normal_coeffs, normal_states0, n_lanes, t_end, dt, tape_r
         d_tapes[b].copy_to_device(tapes[b], stream=stream)
         d_rows[b].copy_to_device(rows[b], stream=stream)
         copied[b].record(stream)
+        if prepare is not None:
+            prepare(d_tapes[b], d_rows[b], stream)
         kernel[blocks, THREADS_PER_BLOCK, stream](d_tapes[b], d_rows[b], *lane_args)
         if not np.any(status == 1):
             break
@@ -190,29 +194,36 @@ def run_blocks(kernel, normal_coeffs, normal_states0, n_lanes, t_end, dt, tape_r
 
 
 def run_lanes(kernel, name, normal_coeffs, normal_states0, lanes, lane_group, t_end, dt,
-              tape_rows, before=(), after=(), periods=None):  # fmt: skip
-    """Run ``kernel`` over every block of tapes (:func:`run_blocks`) on ``lanes`` (rows x
-    lanes, a column per lane, ``lane_group`` its set-up) and return (lanes, switches,
-    flagged) from the GPU. The kernel takes (tapes, rows, lane_group, *before, lanes,
-    *after, switches, flagged, stalled), ``before`` and ``after`` host arrays that go to
-    the GPU with it. RuntimeError naming ``name`` and the set-up if a normal
-    integration failed or a lane stalled."""
+              tape_rows, before=(), after=(), periods=None, prepare=None,
+              check=None):  # fmt: skip
+    """Run ``kernel`` over every block of tapes (:func:`run_blocks`, with ``prepare``) on
+    ``lanes`` (rows x lanes, a column per lane, ``lane_group`` its set-up) and return
+    (lanes, switches, flagged) from the GPU. The kernel takes (tapes, rows, lane_group,
+    *before, lanes, *after, switches, flagged, stalled), ``before`` and ``after`` host
+    arrays that go to the GPU with it (or arrays on the GPU already). ``check()``, where
+    given, runs once the GPU is done and may raise first; then RuntimeError naming
+    ``name`` and the set-up if a normal integration failed or a lane stalled."""
     n_groups, n_lanes = normal_coeffs.shape[0], lanes.shape[1]
     stream = cuda.stream()
+
+    def on_device(a):
+        return cuda.to_device(a, stream=stream) if isinstance(a, np.ndarray) else a
+
     d_lanes = cuda.to_device(lanes, stream=stream)
     counts = [cuda.to_device(np.zeros(n_lanes, dtype=np.int64), stream=stream) for _ in range(3)]
     status = run_blocks(
         kernel, normal_coeffs, normal_states0, n_lanes, t_end, dt, tape_rows, stream,
         (
             cuda.to_device(lane_group, stream=stream),
-            *(cuda.to_device(a, stream=stream) for a in before), d_lanes,
-            *(cuda.to_device(a, stream=stream) for a in after), *counts,
+            *(on_device(a) for a in before), d_lanes, *(on_device(a) for a in after), *counts,
         ),
-        periods,
+        periods, prepare,
     )  # fmt: skip
     lanes = d_lanes.copy_to_host(stream=stream)
     switches, flagged, stalled = (d.copy_to_host(stream=stream) for d in counts)
     stream.synchronize()
+    if check is not None:
+        check()
     raise_on_failure(status, name)
     group_status = np.full(n_groups, OK, dtype=np.int64)
     group_status[lane_group[stalled != 0]] = LANE_STALLED

@@ -8,8 +8,10 @@ the GPU. Each thread runs the CPU kernel's own law over its set-up's pieces:
 spring), :func:`~microslip.integrators.spring_lanes.free_piece` on a contact piece
 without a switch (its piece constants computed by the thread itself, with
 :func:`~microslip.integrators.spring_lanes.piece_constants`), and
-:func:`~microslip.integrators.spring_lane_law.lane_piece` through the switches. A lane's
-result depends only on its parameters and its set-up's tape; the GPU's FMA contraction
+:func:`~microslip.integrators.spring_lane_law.lane_piece` through the switches. The
+kernel (:func:`lanes_kernel`) takes the contact piece's law as a device function, and the
+Mindlin lanes (:mod:`~microslip.integrators.mindlin_lanes_cuda`) run it with theirs. A
+lane's result depends only on its parameters and its set-up's tape; the GPU's FMA contraction
 and its sine make the bits differ from the CPU kernel's by rounding, and under numba's
 CUDA simulator they are the CPU kernel's.
 """
@@ -17,7 +19,6 @@ CUDA simulator they are the CPU kernel's.
 from __future__ import annotations
 
 import functools
-import math
 
 import numpy as np
 from numba import float64
@@ -47,23 +48,26 @@ from microslip.model.coefficients import GRAVITY, MASS
 
 # Columns of the per-set-up constants.
 S_OMEGA, S_KT, S_MASS, S_GRAVITY = range(4)
+STALLED, COARSE = -1, -2  # a contact piece's switch count when the lane cannot go on
 
 
-@functools.cache
-def _kernel():
-    """The spring-lane kernel, compiled for the GPU on its first launch."""
+def lanes_kernel(contact_piece, scratch_size):
+    """A CUDA kernel of compliant lanes, one thread per lane through its set-up's pieces
+    as :func:`~microslip.integrators.spring_lanes.run_spring_lanes` (a lift-off relaxes
+    the spring, :func:`~microslip.integrators.spring_lanes.flight_step` in flight), with
+    ``contact_piece(tapes, g, r, a, h, setups, pieces, scratch, force, fm, km, mu_s,
+    mu_k, x, v, f, mode)`` -> (flagged, switches, x, v, f, mode) on a contact piece
+    (switches STALLED or COARSE end the lane; only STALLED marks it stalled) and a
+    thread-local ``scratch`` of ``scratch_size`` floats. Compiled on its first launch."""
 
     @cuda.jit
-    def spring_kernel(tapes, rows, lane_group, setups, lanes, flying, switches, flagged,
-                      stalled):  # fmt: skip
-        # One thread per lane: through its set-up's pieces, as spring_lanes._run_group.
+    def compliant_kernel(tapes, rows, lane_group, setups, pieces, lanes, flying, switches,
+                         flagged, stalled):  # fmt: skip
         i = cuda.grid(1)
         if i >= lanes.shape[1]:
             return
         g = lane_group[i]
-        piece = cuda.local.array(PIECE, float64)
-        set_spring(piece, setups[g, S_OMEGA], setups[g, S_KT], setups[g, S_MASS],
-                   setups[g, S_GRAVITY])  # fmt: skip
+        scratch = cuda.local.array(scratch_size, float64)
         force, fm, km = lanes[FORCE, i], lanes[FM, i], lanes[KM, i]
         mu_s, mu_k = lanes[MU_S, i], lanes[MU_K, i]
         x, v, f, mode = lanes[X, i], lanes[V, i], lanes[FS, i], lanes[MODE, i]
@@ -82,17 +86,16 @@ def _kernel():
                 in_air = True
                 x, v = flight_step(x, v, fm, h)
                 continue
-            in_air = False  # a lane that lands is flagged: lane_piece applies the touchdown
-            set_piece(piece, a, h)
-            k = piece_constants(a, piece, h * tapes[g, r, nt.INT1], h * h * tapes[g, r, nt.KINT1])
-            flag, x1, v1, f1 = free_piece(k, mode, x, v, f, force, fm, km, mu_s, mu_k)
-            if not flag:
-                x, v, f = x1, v1, f1
-                continue
-            n_flagged += 1
-            x, v, f, mode, n = lane_piece(a, piece, force, fm, km, mu_s, mu_k, x, v, f, mode)
+            in_air = False  # a lane that lands is flagged: the piece applies the touchdown
+            flag, n, x, v, f, mode = contact_piece(
+                tapes, g, r, a, h, setups, pieces, scratch, force, fm, km, mu_s, mu_k, x, v, f,
+                mode,
+            )  # fmt: skip
+            if flag:
+                n_flagged += 1
             if n < 0:
-                stalled[i] = 1
+                if n == STALLED:
+                    stalled[i] = 1
                 break
             n_switches += n
         lanes[X, i], lanes[V, i], lanes[FS, i], lanes[MODE, i] = x, v, f, mode
@@ -100,7 +103,43 @@ def _kernel():
         switches[i] += n_switches
         flagged[i] += n_flagged
 
-    return spring_kernel
+    return compliant_kernel
+
+
+def spring_piece(tapes, g, r, a, h, setups, pieces, piece, force, fm, km, mu_s, mu_k, x, v, f,
+                 mode):  # fmt: skip
+    """A spring lane over contact piece r of set-up g (``contact_piece`` of
+    :func:`lanes_kernel`, compiled as a device function): the CPU kernel's closed form
+    where the piece holds no switch (:func:`~microslip.integrators.spring_lanes.free_piece`),
+    else :func:`~microslip.integrators.spring_lane_law.lane_piece`; ``piece`` is the
+    thread's scratch, ``pieces`` unused. (A device function, not ``@njit``: under the
+    simulator it gets the simulator's arrays, which compiled code cannot take.)"""
+    set_spring(piece, setups[g, S_OMEGA], setups[g, S_KT], setups[g, S_MASS],
+               setups[g, S_GRAVITY])  # fmt: skip
+    set_piece(piece, a, h)
+    k = piece_constants(a, piece, h * tapes[g, r, nt.INT1], h * h * tapes[g, r, nt.KINT1])
+    flag, x1, v1, f1 = free_piece(k, mode, x, v, f, force, fm, km, mu_s, mu_k)
+    if not flag:
+        return False, 0, x1, v1, f1, mode
+    x, v, f, mode, n = lane_piece(a, piece, force, fm, km, mu_s, mu_k, x, v, f, mode)
+    return True, n, x, v, f, mode
+
+
+@functools.cache
+def _kernel():
+    return lanes_kernel(cuda.jit(device=True)(spring_piece), PIECE)
+
+
+def start_lanes(normal_coeffs, normal_states0, lanes, starts):
+    """(lane_group, flying): each lane's set-up, and 1 for the lanes of a set-up that
+    starts out of contact, which are put in flight (mode FLIGHT), as on the CPU."""
+    n_groups = normal_coeffs.shape[0]
+    flying = np.zeros(lanes.shape[1], dtype=np.int64)
+    for g in range(n_groups):
+        if starts_in_flight(normal_coeffs[g], normal_states0[g, 0], normal_states0[g, 1]):
+            lanes[MODE, starts[g] : starts[g + 1]] = FLIGHT
+            flying[starts[g] : starts[g + 1]] = 1
+    return np.repeat(np.arange(n_groups), np.diff(starts)), flying
 
 
 def run_spring_lanes_cuda(normal_coeffs, normal_states0, stiffness, group_of_lane, forces,
@@ -119,22 +158,17 @@ def run_spring_lanes_cuda(normal_coeffs, normal_states0, stiffness, group_of_lan
     lanes, starts, stiffness = pack_lanes(
         normal_coeffs, stiffness, group_of_lane, forces, mu_static, mu_kinetic
     )
-    n_groups, n_lanes = normal_coeffs.shape[0], lanes.shape[1]
-    if n_lanes == 0:
+    if lanes.shape[1] == 0:
         none = np.zeros(0, dtype=np.int64)
         return lanes[X], lanes[V], lanes[FS], lanes[MODE], none, none
-    setups = np.empty((n_groups, 4))
-    flying = np.zeros(n_lanes, dtype=np.int64)
-    for g in range(n_groups):
-        c = normal_coeffs[g]
-        mass = c[MASS]
-        setups[g] = math.sqrt(stiffness[g] / mass), stiffness[g], mass, c[GRAVITY]
-        if starts_in_flight(c, states0[g, 0], states0[g, 1]):
-            lanes[MODE, starts[g] : starts[g + 1]] = FLIGHT
-            flying[starts[g] : starts[g + 1]] = 1
-    lane_group = np.repeat(np.arange(n_groups), np.diff(starts))
+    mass = normal_coeffs[:, MASS]
+    setups = np.stack(
+        [np.sqrt(stiffness / mass), stiffness, mass, normal_coeffs[:, GRAVITY]], axis=1
+    )
+    lane_group, flying = start_lanes(normal_coeffs, states0, lanes, starts)
     lanes, switches, flagged = run_lanes(
         _kernel(), "spring-lane kernel (CUDA)", normal_coeffs, states0, lanes, lane_group,
-        t_end, dt, tape_rows, before=(setups,), after=(flying,), periods=periods,
+        t_end, dt, tape_rows, before=(setups, np.zeros((1, 1, 1))), after=(flying,),
+        periods=periods,
     )  # fmt: skip
     return lanes[X], lanes[V], lanes[FS], lanes[MODE], switches, flagged

@@ -186,9 +186,10 @@ def _shared_run(models, normal0, forces, duration, dt, backend="cpu") -> np.ndar
     model per row of ``normal0``: y [m], ẏ [m/s] at t = 0) under every constant force
     [N], on the shared-normal kernel of the models' tangential contact (all rigid, all
     springs of constant stiffness or all Mindlin springs; a relaxed spring at t = 0);
-    ``backend`` "cuda" runs
-    the lanes on a GPU (:mod:`~microslip.integrators.shared_lanes_cuda`,
-    :mod:`~microslip.integrators.spring_lanes_cuda`)."""
+    ``backend`` "cuda" runs the lanes on a GPU
+    (:mod:`~microslip.integrators.shared_lanes_cuda`,
+    :mod:`~microslip.integrators.spring_lanes_cuda`,
+    :mod:`~microslip.integrators.mindlin_lanes_cuda`)."""
     from microslip.integrators.normal_tape import normal_coefficients
     from microslip.integrators.shared_lanes import run_shared
     from microslip.integrators.spring_lanes import run_spring_lanes
@@ -202,11 +203,13 @@ def _shared_run(models, normal0, forces, duration, dt, backend="cpu") -> np.ndar
     lane_forces = np.tile(forces, n_setups)
     mu = np.repeat([model.params.mu for model in models], forces.size)
     if time_kernel(models[0]) == "mindlin":
-        from microslip.integrators.mindlin_lanes import run_mindlin_lanes
-
+        if backend == "cuda":
+            from microslip.integrators.mindlin_lanes_cuda import run_mindlin_lanes_cuda as run
+        else:
+            from microslip.integrators.mindlin_lanes import run_mindlin_lanes as run
         ratio = [model.tangential.ratio for model in models]
-        x = run_mindlin_lanes(coeffs, normal0, ratio, groups, lane_forces, mu, mu, duration, dt,
-                              periods=periods)[0]  # fmt: skip
+        x = run(coeffs, normal0, ratio, groups, lane_forces, mu, mu, duration, dt,
+                periods=periods)[0]  # fmt: skip
     elif models[0].is_compliant:
         stiffness = [model.tangential.stiffness for model in models]
         if backend == "cuda":

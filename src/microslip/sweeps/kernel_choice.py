@@ -55,18 +55,20 @@ def time_kernel(model: Model, param_axes=()) -> str:
     return "mindlin" if all(supports_exponent(m2) for m2 in exponents) else "batched"
 
 
-def checked_backend(backend: Any, model: Model, method: str) -> str:
-    """``backend`` if this sweep can run there, else ValueError in one line."""
+def checked_backend(backend: Any, model: Model, method: str, param_axes=()) -> str:
+    """``backend`` if this sweep (of ``model`` over ``param_axes``) can run there, else
+    ValueError in one line."""
     backend = check.one_of("backend", backend, BACKENDS)
     if backend == "cpu":
         return backend
     if method != "time":
         raise ValueError("backend='cuda' runs method='time' only; 'steady' runs on the CPU")
-    kernel = time_kernel(model)
-    if kernel in ("mindlin", "batched"):
+    if time_kernel(model, param_axes) == "batched":
         raise ValueError(
-            "backend='cuda' runs the time kernels of a rigid contact or a TangentialSpring; "
-            f"a {type(model.tangential).__name__} runs on the CPU ({kernel!r} kernel)"
+            "backend='cuda' runs the shared-normal time kernels (a rigid contact, a "
+            "TangentialSpring, a MindlinSpring at m2 = 1, 2 or >= 3); this "
+            f"{type(model.tangential).__name__} at m2 = {model.params.m2!r} (or an m2 axis) "
+            "takes the batched kernel, which runs on the CPU"
         )
     from microslip.integrators.shared_lanes_cuda import cuda_unavailable
 

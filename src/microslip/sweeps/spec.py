@@ -64,7 +64,8 @@ class SweepSpec:
     amplitude_chunk : amplitudes per chunk
     backend : "cpu" or "cuda" (the shared-normal time kernels' lanes on a GPU:
         :mod:`microslip.integrators.shared_lanes_cuda`,
-        :mod:`microslip.integrators.spring_lanes_cuda`)
+        :mod:`microslip.integrators.spring_lanes_cuda`,
+        :mod:`microslip.integrators.mindlin_lanes_cuda`)
     """
 
     base: Model
@@ -115,14 +116,13 @@ class SweepSpec:
         :meth:`check_budget` is made here too (None: left to :meth:`check_budget`).
 
         ``backend="cuda"`` runs the lanes of the shared-normal time kernels on a GPU
-        (method "time", a rigid contact or a TangentialSpring; refused otherwise, and
-        where no GPU can be used, with the reason).
+        (method "time", a rigid contact, a TangentialSpring or a MindlinSpring at m2 =
+        1, 2 or >= 3; refused otherwise, and where no GPU can be used, with the reason).
         """
         model = as_model(model_or_params)
         method = check.one_of("method", method, METHODS)
         allowed = {"tangential": TIME_TANGENTIAL} if method == "time" else {}
         require(model, "sweep", allowed=allowed, instead=SWEEP_INSTEAD)
-        backend = checked_backend(backend, model, method)
         params = model.params
         forced = model.excitation is not None
         if forced and amplitudes is not None:
@@ -154,6 +154,7 @@ class SweepSpec:
             if any(name == other for other, _ in arrays):
                 raise ValueError(f"{name!r} is given twice as a sweep axis")
             arrays.append((name, checked_axis(name, values)))
+        backend = checked_backend(backend, model, method, arrays)
         forces = checked_axis("force", forces)
         if np.any(forces < 0):
             raise ValueError(

@@ -1,0 +1,159 @@
+"""The Mindlin lanes (``MindlinSpring``) on an NVIDIA GPU (optional: numba's CUDA target).
+
+The lanes of :func:`microslip.integrators.mindlin_lanes.run_mindlin_lanes` on the block
+pipeline of :mod:`microslip.integrators.shared_lanes_cuda`: the normal tapes on the CPU
+cores; on the GPU, per block, first one thread per contact piece writes what that
+piece's lanes share (:func:`~microslip.integrators.mindlin_lane_law.set_piece`: the
+quartics k_t(τ) and R(τ) and the stick's fundamental series, ~200 numbers) into a
+table, then one thread per lane runs through its set-up's pieces
+(:func:`~microslip.integrators.spring_lanes_cuda.lanes_kernel`, as the spring lanes):
+the CPU kernel's closed form where a piece holds no switch
+(:func:`~microslip.integrators.mindlin_lanes.free_piece`), else
+:func:`~microslip.integrators.mindlin_lane_law.lane_piece`. Both are the CPU kernel's
+own functions, compiled for the GPU. A lane copies its piece's 34 numbers into its
+scratch, and the series (to its degree) only where it is flagged.
+
+A lane's result depends only on its parameters and its set-up's tape; on a GPU the
+bits differ from the CPU kernel's by rounding (fused multiply-adds), and under numba's
+CUDA simulator they are the CPU kernel's (docs/theory/numerics.md, "Lanes on a GPU").
+"""
+
+from __future__ import annotations
+
+import functools
+
+import numpy as np
+from numba import float64
+
+from microslip import _jit_cache  # noqa: F401  (registers the cache before any @njit)
+from microslip.integrators import mindlin_lane_law as law
+from microslip.integrators import normal_tape as nt
+from microslip.integrators.mindlin_lanes import (
+    check_exponents,
+    free_piece,
+    piece_constants,
+    raise_if_too_coarse,
+)
+from microslip.integrators.shared_lanes_cuda import (
+    TAPE_ROWS,
+    THREADS_PER_BLOCK,
+    cuda,
+    cuda_unavailable,
+    run_lanes,
+)
+from microslip.integrators.spring_lanes import FS, MODE, V, X, flight_piece, pack_lanes
+from microslip.integrators.spring_lanes_cuda import COARSE, lanes_kernel, start_lanes
+from microslip.model.coefficients import GRAVITY, MASS, SIZE
+
+PIECES_BYTES = 512 * 2**20  # at most this much of the pieces' table on the GPU
+_SERIES_LENGTH = law.DEGREE + 1
+_ONE_ROW = (1, nt.ROW)  # shape of a tape row copied into thread-local memory
+_PIECE = law.PIECE  # a module constant: the size of a local array must be a literal
+
+
+def piece_table_row(tapes, rows, normal_c, setups, pieces, coarse):
+    """Thread j writes row r of set-up g (j = g × rows per block + r) of the pieces'
+    table: :func:`~microslip.integrators.mindlin_lane_law.set_piece` on a contact
+    piece; h = -1 and ``coarse[g]`` = 1 where θ = h sqrt(k_t/m) > MAX_THETA. Works on
+    copies in thread-local memory (the law is compiled code, which under the
+    simulator cannot take the simulator's arrays)."""
+    j = cuda.grid(1)
+    n_rows = tapes.shape[1]
+    g = j // n_rows
+    r = j - g * n_rows
+    if g >= tapes.shape[0] or r >= rows[g]:
+        return
+    a = (
+        tapes[g, r, nt.A0], tapes[g, r, nt.A1], tapes[g, r, nt.A2], tapes[g, r, nt.A3],
+        tapes[g, r, nt.A4],
+    )  # fmt: skip
+    if flight_piece(a):
+        return
+    row = cuda.local.array(_ONE_ROW, float64)
+    for q in range(nt.ROW):
+        row[0, q] = tapes[g, r, q]
+    c = cuda.local.array(SIZE, float64)
+    for q in range(SIZE):
+        c[q] = normal_c[g, q]
+    piece = cuda.local.array(_PIECE, float64)
+    law.set_setup(piece, setups[g, 0], setups[g, 1], setups[g, 2])
+    status = law.set_piece(piece, a, row, 0, c)
+    for q in range(law.PIECE):
+        pieces[g, r, q] = piece[q]
+    if status != 0:
+        pieces[g, r, law.M_H] = -1.0
+        coarse[g] = 1
+
+
+def mindlin_piece(tapes, g, r, a, h, setups, pieces, piece, force, fm, km, mu_s, mu_k, x, v,
+                  f, mode):  # fmt: skip
+    """A Mindlin lane over contact piece r of set-up g (``contact_piece`` of
+    :func:`~microslip.integrators.spring_lanes_cuda.lanes_kernel`), from the pieces'
+    table into the thread's scratch ``piece``; COARSE on a piece marked too coarse."""
+    if pieces[g, r, law.M_H] < 0.0:
+        return False, COARSE, x, v, f, mode
+    for q in range(law.M_NODES):  # every scalar of the piece; the series on a flag
+        piece[q] = pieces[g, r, q]
+    k = piece_constants(a, piece, h * tapes[g, r, nt.INT1], h * h * tapes[g, r, nt.KINT1])
+    flag, x1, v1, f1 = free_piece(k, mode, x, v, f, force, fm, km, mu_s, mu_k)
+    if not flag:
+        return False, 0, x1, v1, f1, mode
+    degree = int(piece[law.M_DEG])
+    for series in range(6):
+        start = law.M_V1 + series * _SERIES_LENGTH
+        for n in range(degree + 1):
+            piece[start + n] = pieces[g, r, start + n]
+    x, v, f, mode, n = law.lane_piece(a, piece, force, fm, km, mu_s, mu_k, x, v, f, mode)
+    return True, n, x, v, f, mode
+
+
+@functools.cache
+def _kernels():
+    """(pieces' table kernel, lane kernel), compiled for the GPU on their first launch."""
+    table = cuda.jit(piece_table_row)
+    return table, lanes_kernel(cuda.jit(device=True)(mindlin_piece), law.PIECE)
+
+
+def run_mindlin_lanes_cuda(normal_coeffs, normal_states0, ratio, group_of_lane, forces,
+                           mu_static, mu_kinetic, t_end, dt, tape_rows=None,
+                           periods=None):  # fmt: skip
+    """:func:`~microslip.integrators.mindlin_lanes.run_mindlin_lanes` with the lanes on
+    the GPU (same arguments, returns and errors, SI units); ``tape_rows`` pieces per
+    set-up in a block of tapes (default: TAPE_ROWS, fewer where the pieces' table would
+    exceed PIECES_BYTES), ``periods`` as for
+    :func:`~microslip.integrators.shared_lanes.run_shared`. Raises RuntimeError when
+    no GPU can be used."""
+    reason = cuda_unavailable()
+    if reason is not None:
+        raise RuntimeError(reason)
+    normal_coeffs = np.ascontiguousarray(normal_coeffs, dtype=np.float64)
+    states0 = np.asarray(normal_states0, dtype=np.float64)
+    check_exponents(normal_coeffs)
+    lanes, starts, ratio = pack_lanes(
+        normal_coeffs, ratio, group_of_lane, forces, mu_static, mu_kinetic, what="ratio"
+    )
+    if lanes.shape[1] == 0:
+        none = np.zeros(0, dtype=np.int64)
+        return lanes[X], lanes[V], lanes[FS], lanes[MODE], none, none
+    n_groups = normal_coeffs.shape[0]
+    if tape_rows is None:
+        tape_rows = max(16, min(TAPE_ROWS, PIECES_BYTES // (n_groups * law.PIECE * 8)))
+    setups = np.stack([normal_coeffs[:, MASS], normal_coeffs[:, GRAVITY], ratio], axis=1)
+    lane_group, flying = start_lanes(normal_coeffs, states0, lanes, starts)
+    table_kernel, lane_kernel = _kernels()
+    d_coeffs, d_setups = cuda.to_device(normal_coeffs), cuda.to_device(setups)
+    d_pieces = cuda.device_array((n_groups, int(tape_rows), law.PIECE))
+    d_coarse = cuda.to_device(np.zeros(n_groups, dtype=np.int64))
+    blocks = (n_groups * int(tape_rows) + THREADS_PER_BLOCK - 1) // THREADS_PER_BLOCK
+
+    def fill_table(d_tapes, d_rows, stream):
+        table_kernel[blocks, THREADS_PER_BLOCK, stream](
+            d_tapes, d_rows, d_coeffs, d_setups, d_pieces, d_coarse
+        )
+
+    lanes, switches, flagged = run_lanes(
+        lane_kernel, "Mindlin-lane kernel (CUDA)", normal_coeffs, states0, lanes, lane_group,
+        t_end, dt, tape_rows, before=(d_setups, d_pieces), after=(flying,), periods=periods,
+        prepare=fill_table, check=lambda: raise_if_too_coarse(d_coarse.copy_to_host(), dt),
+    )  # fmt: skip
+    return lanes[X], lanes[V], lanes[FS], lanes[MODE], switches, flagged
