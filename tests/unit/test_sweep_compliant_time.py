@@ -133,3 +133,38 @@ def test_mindlin_exponents_without_lanes_run_on_the_batched_kernel():
     both = sweep(forced, {"m2": [1.5, 2.0]}, force=forces, method="time", duration=0.003)
     alone = sweep(forced, None, force=forces, method="time", duration=0.003)
     np.testing.assert_array_equal(np.asarray(both.values)[1], np.asarray(alone.values))
+
+
+def test_mindlin_touchdown_tie_runs_on_the_batched_kernel():
+    """λ = 1 and F = μ m g, from rest in flight: the lanes land with |ẋ| = μ R exactly (in
+    free fall ẋ = F t/m, R = g t/λ), where stick and slip coincide and the lane law's
+    search stalls (docs/theory/numerics.md). The sweep runs that set-up on the batched
+    RK4 kernel instead and the other set-up on the lanes; both agree with the event
+    method to 1e-6 of the largest velocity."""
+    from microslip.integrators.mindlin_lanes import run_mindlin_lanes
+    from microslip.integrators.normal_tape import normal_coefficients
+    from microslip.integrators.shared_lanes import LaneStalledError
+    from microslip.simulation import initial_state_from_amplitude
+
+    model = ms.Model(P, tangential=ms.MindlinSpring(1.0))
+    y0, mg = P.static_deflection, P.mass * P.g
+    forces, amplitudes, duration = [0.5 * P.mu * mg, P.mu * mg], [3.0 * y0, 0.5 * y0], 0.005
+    c = normal_coefficients(model.pack(0.0))
+    normal0 = np.array([initial_state_from_amplitude(P, amplitudes[0])[:2]])
+    dt = shortest_period(model) / DEFAULT_RK4_STEPS_PER_PERIOD
+    with pytest.raises(LaneStalledError) as stalled:
+        run_mindlin_lanes(c[None], normal0, [1.0], [0], [forces[1]], P.mu, P.mu, duration, dt)
+    assert list(stalled.value.setups) == [0]
+    result = np.asarray(
+        sweep(model, None, force=forces, amplitude=amplitudes, method="time",
+              duration=duration).values
+    )  # fmt: skip
+    events = np.array(
+        [
+            [ms.simulate(model, force=f, amplitude=a, duration=duration, rtol=1e-12).x[-1]
+             for a in amplitudes]
+            for f in forces
+        ]
+    ) / duration  # fmt: skip
+    assert np.all(np.abs(events) > 0)
+    assert np.abs(result - events).max() <= 1e-6 * np.abs(events).max()

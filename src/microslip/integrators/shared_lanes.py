@@ -36,13 +36,29 @@ OK = 0
 LANE_STALLED = 5  # a lane switched more than MAX_SWITCHES_PER_STEP times in one piece
 
 
+class LaneStalledError(RuntimeError):
+    """A lane stalled (more than MAX_SWITCHES_PER_STEP switches in one piece);
+    ``setups`` holds every set-up with a stalled lane."""
+
+    def __init__(self, message: str, setups: np.ndarray):
+        super().__init__(message)
+        self.setups = setups
+
+
 def raise_on_failure(status: np.ndarray, kernel: str) -> None:
-    """RuntimeError naming the first normal set-up whose status is not OK."""
-    bad = np.flatnonzero(status != OK)
-    if bad.size:
-        g = int(bad[0])
-        what = "a lane stalled" if status[g] == LANE_STALLED else "the normal integration failed"
-        raise RuntimeError(f"{kernel}: {what} in set-up {g} (status {status[g]})")
+    """RuntimeError naming the first normal set-up whose status is not OK: a failed
+    normal integration first, else :class:`LaneStalledError`."""
+    failed = np.flatnonzero((status != OK) & (status != LANE_STALLED))
+    if failed.size:
+        g = int(failed[0])
+        raise RuntimeError(
+            f"{kernel}: the normal integration failed in set-up {g} (status {status[g]})"
+        )
+    stalled = np.flatnonzero(status == LANE_STALLED)
+    if stalled.size:
+        g = int(stalled[0])
+        message = f"{kernel}: a lane stalled in set-up {g} (status {status[g]})"
+        raise LaneStalledError(message, stalled)
 
 
 # Rows of the lane array of a group (one array: a compiled call counts each array

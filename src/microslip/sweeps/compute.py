@@ -203,13 +203,7 @@ def _shared_run(models, normal0, forces, duration, dt, backend="cpu") -> np.ndar
     lane_forces = np.tile(forces, n_setups)
     mu = np.repeat([model.params.mu for model in models], forces.size)
     if time_kernel(models[0]) == "mindlin":
-        if backend == "cuda":
-            from microslip.integrators.mindlin_lanes_cuda import run_mindlin_lanes_cuda as run
-        else:
-            from microslip.integrators.mindlin_lanes import run_mindlin_lanes as run
-        ratio = [model.tangential.ratio for model in models]
-        x = run(coeffs, normal0, ratio, groups, lane_forces, mu, mu, duration, dt,
-                periods=periods)[0]  # fmt: skip
+        x = _mindlin_run(models, coeffs, normal0, forces, duration, dt, periods, backend)
     elif models[0].is_compliant:
         stiffness = [model.tangential.stiffness for model in models]
         if backend == "cuda":
@@ -227,6 +221,47 @@ def _shared_run(models, normal0, forces, duration, dt, backend="cpu") -> np.ndar
         x = run_shared(coeffs, normal0, groups, lane_forces, mu, mu, duration, dt,
                        periods=periods)[0]  # fmt: skip
     return x.reshape(n_setups, forces.size)
+
+
+def _mindlin_run(models, coeffs, normal0, forces, duration, dt, periods, backend):
+    """x(duration) [m] per lane (set-up-major) of the Mindlin lanes of :func:`_shared_run`.
+
+    A set-up where a lane stalls (an exact tie of stick and slip at a touchdown,
+    docs/theory/numerics.md "Lanes on a Mindlin spring") runs on the batched RK4 kernel
+    instead, one trajectory per force, and the other set-ups on the lanes again: each
+    set-up's result still depends on nothing else in the run."""
+    from microslip.integrators.batched import simulate_batch
+    from microslip.integrators.shared_lanes import LaneStalledError
+
+    if backend == "cuda":
+        from microslip.integrators.mindlin_lanes_cuda import run_mindlin_lanes_cuda as run
+    else:
+        from microslip.integrators.mindlin_lanes import run_mindlin_lanes as run
+
+    def lanes(setups):
+        n = setups.size
+        ratio = [models[g].tangential.ratio for g in setups]
+        mu = np.repeat([models[g].params.mu for g in setups], forces.size)
+        groups = np.repeat(np.arange(n), forces.size)
+        return run(coeffs[setups], normal0[setups], ratio, groups, np.tile(forces, n), mu, mu,
+                   duration, dt, periods=periods[setups])[0].reshape(n, forces.size)  # fmt: skip
+
+    everything = np.arange(len(models))
+    try:
+        return lanes(everything).ravel()
+    except LaneStalledError as error:
+        stalled = error.setups
+    x = np.empty((len(models), forces.size))
+    rest = np.setdiff1d(everything, stalled)
+    if rest.size:
+        x[rest] = lanes(rest)
+    for g in stalled:
+        batch = np.repeat(models[g].pack(0.0)[None, :], forces.size, axis=0)
+        batch[:, FORCE] = forces
+        states0 = np.zeros((forces.size, 4))
+        states0[:, :2] = normal0[g]
+        x[g] = simulate_batch(batch, states0, duration, dt).states[:, 2]
+    return x.ravel()
 
 
 def _batched_run(spec, model, forces, duration, states0=None):
