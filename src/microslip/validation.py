@@ -53,15 +53,18 @@ def real_array(name: str, values: Any) -> np.ndarray:
     objects numpy cannot hold as numbers (e.g. Python ints beyond the float range) are
     refused rather than converted.
     """
-    not_real = ValueError(f"{name} must be an array of real numbers, got {_short(values)}")
+
+    def not_real() -> ValueError:  # built only when raised: a repr of 1e3 values takes ms
+        return ValueError(f"{name} must be an array of real numbers, got {_short(values)}")
+
     if values is None or isinstance(values, (str, bytes)):
-        raise not_real
+        raise not_real()
     try:
         array = np.asarray(values)
     except (TypeError, ValueError, OverflowError):
-        raise not_real from None
+        raise not_real() from None
     if array.dtype.kind not in "iuf":
-        raise not_real
+        raise not_real()
     array = array.astype(float, copy=False)
     if array.ndim == 0:
         array = array.reshape(1)
