@@ -10,8 +10,10 @@ table, then one thread per lane runs through its set-up's pieces
 the CPU kernel's closed form where a piece holds no switch
 (:func:`~microslip.integrators.mindlin_lanes.free_piece`), else
 :func:`~microslip.integrators.mindlin_lane_law.lane_piece`. Both are the CPU kernel's
-own functions, compiled for the GPU. A lane copies its piece's 34 numbers into its
-scratch, and the series (to its degree) only where it is flagged.
+own functions, compiled for the GPU. The table row also holds the 19 numbers of the
+piece's closed form (:func:`~microslip.integrators.mindlin_lanes.piece_constants`),
+which a lane reads straight into registers; only a flagged lane copies the piece's
+scalars and series (to its degree) into its scratch.
 
 A lane's result depends only on its parameters and its set-up's tape; on a GPU the
 bits differ from the CPU kernel's by rounding (fused multiply-adds), and under numba's
@@ -49,6 +51,9 @@ PIECES_BYTES = 512 * 2**20  # at most this much of the pieces' table on the GPU
 _SERIES_LENGTH = law.DEGREE + 1
 _ONE_ROW = (1, nt.ROW)  # shape of a tape row copied into thread-local memory
 _PIECE = law.PIECE  # a module constant: the size of a local array must be a literal
+_CONSTANTS = law.PIECE  # where a table row keeps the piece's free_piece constants
+_N_CONSTANTS = 19  # of mindlin_lanes.piece_constants
+TABLE_WIDTH = law.PIECE + _N_CONSTANTS
 
 
 def piece_table_row(tapes, rows, normal_c, setups, pieces, coarse):
@@ -83,6 +88,11 @@ def piece_table_row(tapes, rows, normal_c, setups, pieces, coarse):
     if status != 0:
         pieces[g, r, law.M_H] = -1.0
         coarse[g] = 1
+        return
+    h = row[0, nt.H]
+    k = piece_constants(a, piece, h * row[0, nt.INT1], h * h * row[0, nt.KINT1])
+    for q in range(_N_CONSTANTS):
+        pieces[g, r, _CONSTANTS + q] = k[q]
 
 
 def mindlin_piece(tapes, g, r, a, h, setups, pieces, piece, force, fm, km, mu_s, mu_k, x, v,
@@ -92,12 +102,18 @@ def mindlin_piece(tapes, g, r, a, h, setups, pieces, piece, force, fm, km, mu_s,
     table into the thread's scratch ``piece``; COARSE on a piece marked too coarse."""
     if pieces[g, r, law.M_H] < 0.0:
         return False, COARSE, x, v, f, mode
-    for q in range(law.M_NODES):  # every scalar of the piece; the series on a flag
-        piece[q] = pieces[g, r, q]
-    k = piece_constants(a, piece, h * tapes[g, r, nt.INT1], h * h * tapes[g, r, nt.KINT1])
+    row = pieces[g, r]
+    b = _CONSTANTS  # the piece_constants tuple, read straight into registers
+    k = (
+        row[b], row[b + 1], row[b + 2], row[b + 3], row[b + 4], row[b + 5], row[b + 6],
+        row[b + 7], row[b + 8], row[b + 9], row[b + 10], row[b + 11], row[b + 12],
+        row[b + 13], row[b + 14], row[b + 15], row[b + 16], row[b + 17], row[b + 18],
+    )  # fmt: skip
     flag, x1, v1, f1 = free_piece(k, mode, x, v, f, force, fm, km, mu_s, mu_k)
     if not flag:
         return False, 0, x1, v1, f1, mode
+    for q in range(law.M_NODES):  # every scalar of the piece, and the series
+        piece[q] = pieces[g, r, q]
     degree = int(piece[law.M_DEG])
     for series in range(6):
         start = law.M_V1 + series * _SERIES_LENGTH
@@ -137,12 +153,12 @@ def run_mindlin_lanes_cuda(normal_coeffs, normal_states0, ratio, group_of_lane, 
         return lanes[X], lanes[V], lanes[FS], lanes[MODE], none, none
     n_groups = normal_coeffs.shape[0]
     if tape_rows is None:
-        tape_rows = max(16, min(TAPE_ROWS, PIECES_BYTES // (n_groups * law.PIECE * 8)))
+        tape_rows = max(16, min(TAPE_ROWS, PIECES_BYTES // (n_groups * TABLE_WIDTH * 8)))
     setups = np.stack([normal_coeffs[:, MASS], normal_coeffs[:, GRAVITY], ratio], axis=1)
     lane_group, flying = start_lanes(normal_coeffs, states0, lanes, starts)
     table_kernel, lane_kernel = _kernels()
     d_coeffs, d_setups = cuda.to_device(normal_coeffs), cuda.to_device(setups)
-    d_pieces = cuda.device_array((n_groups, int(tape_rows), law.PIECE))
+    d_pieces = cuda.device_array((n_groups, int(tape_rows), TABLE_WIDTH))
     d_coarse = cuda.to_device(np.zeros(n_groups, dtype=np.int64))
     blocks = (n_groups * int(tape_rows) + THREADS_PER_BLOCK - 1) // THREADS_PER_BLOCK
 
