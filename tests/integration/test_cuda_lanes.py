@@ -211,26 +211,20 @@ def test_gpu_lanes_agree_with_the_cpu_kernel():
 
 
 @pytest.mark.skipif(slc.cuda_unavailable() is not None, reason="needs a CUDA GPU")
-def test_gpu_spring_lanes_agree_with_the_cpu_kernel():
+@pytest.mark.parametrize("kernel", ["spring", "mindlin"])
+def test_gpu_compliant_lanes_agree_with_the_cpu_kernel(kernel):
+    from microslip.integrators.mindlin_lanes import run_mindlin_lanes
+    from microslip.integrators.mindlin_lanes_cuda import run_mindlin_lanes_cuda
     from microslip.integrators.spring_lanes import run_spring_lanes
     from microslip.integrators.spring_lanes_cuda import run_spring_lanes_cuda
 
-    args = spring_lanes(4000)
-    cpu = run_spring_lanes(*args)
-    gpu = run_spring_lanes_cuda(*args, tape_rows=512)
-    for k in range(3):  # x, ẋ, f
-        assert np.abs(gpu[k] - cpu[k]).max() <= 1e-9 * np.abs(cpu[k]).max()
-    assert np.array_equal(gpu[3], cpu[3])
-
-
-@pytest.mark.skipif(slc.cuda_unavailable() is not None, reason="needs a CUDA GPU")
-def test_gpu_mindlin_lanes_agree_with_the_cpu_kernel():
-    from microslip.integrators.mindlin_lanes import run_mindlin_lanes
-    from microslip.integrators.mindlin_lanes_cuda import run_mindlin_lanes_cuda
-
-    args = mindlin_lanes(4000)
-    cpu = run_mindlin_lanes(*args)
-    gpu = run_mindlin_lanes_cuda(*args, tape_rows=512)
+    lanes, on_cpu, on_gpu = {
+        "spring": (spring_lanes, run_spring_lanes, run_spring_lanes_cuda),
+        "mindlin": (mindlin_lanes, run_mindlin_lanes, run_mindlin_lanes_cuda),
+    }[kernel]
+    args = lanes(4000)
+    cpu = on_cpu(*args)
+    gpu = on_gpu(*args, tape_rows=512)
     for k in range(3):  # x, ẋ, f
         assert np.abs(gpu[k] - cpu[k]).max() <= 1e-9 * np.abs(cpu[k]).max()
     assert np.array_equal(gpu[3], cpu[3])
