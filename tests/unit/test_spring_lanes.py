@@ -142,3 +142,27 @@ def test_a_stick_off_its_limit_by_rounding_still_finds_the_next_release(ulps):
     bound3 = mu_s * d3 + 1e-6 * abs(f_a - force)
     tau = law._first_exit(law._STICK, a, p, bound2, bound3, noise, 0.0, 1.0)
     assert tau_root <= tau <= tau_root + 1e-9
+
+
+@pytest.mark.parametrize("kernel", KERNELS)
+def test_zero_force_lanes_stay_at_rest_through_flights(kernel):
+    """F = 0 on a free vibration with a flight every period (and one without): every
+    lane stays exactly at x = 0, ẋ = 0 with a relaxed spring, landing and lifting off
+    (the stick law's shortcut for a lane at rest on a relaxed spring under F = 0), while
+    a lane with F > 0 beside it moves."""
+    from microslip.integrators.mindlin_lanes import run_mindlin_lanes
+
+    y0 = P.static_deflection
+    amplitudes = [2.5 * y0, 0.5 * y0]
+    model = ms.Model(P, tangential=ms.TangentialSpring(K_T))
+    normal0 = np.array([initial_state_from_amplitude(P, a)[:2] for a in amplitudes])
+    coeffs = np.repeat(normal_coefficients(model.pack(0.0))[None], 2, axis=0)
+    run, parameter = (run_spring_lanes, K_T) if kernel == "spring" else (run_mindlin_lanes, 1.0)
+    forces = np.array([0.0, 0.0, 0.3, 0.0])
+    x, v, f, mode, switches, _ = run(coeffs, normal0, [parameter] * 2, [0, 0, 0, 1], forces,
+                                     P.mu, P.mu, 0.004, DT)  # fmt: skip
+    rest = forces == 0.0
+    assert np.all(x[rest] == 0.0) and np.all(v[rest] == 0.0) and np.all(f[rest] == 0.0)
+    assert np.all((mode[rest] == 0.0) | (mode[rest] == 2.0))  # stuck or in flight
+    assert switches[0] >= 3  # landed every period (~1 ms)
+    assert abs(x[2]) > 0.0

@@ -245,6 +245,11 @@ def lane_piece(a, piece, force, fm, km, mu_s, mu_k, x, v, f, mode):
             d = 1.0 - tau
             return x + h * v * d + 0.5 * h * h * fm * d * d, v + h * fm * d, 0.0, mode, switches
         if mode == 0.0:
+            if v == 0.0 and f == 0.0 and force == 0.0:
+                # At rest on a relaxed spring with F = 0: f stays 0 <= μ_s N, so no
+                # release (the search would creep to the double zero of μ_s P at a
+                # lift-off ending the piece).
+                return x, 0.0, 0.0, mode, switches
             e_a = f - force
             b_a = k_t * v / omega
             p = (tau, theta, e_a, b_a, f, mu_s, 0.0)  # padded: one tuple type for both kinds
