@@ -351,12 +351,9 @@ def lane_piece(a, piece, force, fm, km, mu_s, mu_k, x, v, f, mode):
             d = 1.0 - tau
             return x + h * v * d + 0.5 * h * h * fm * d * d, v + h * fm * d, 0.0, mode, switches
         if mode == 0.0:
-            x0, v0, e0 = virtual_start(piece, tau, x, v, f - force)
-            if v0 == 0.0 and e0 == 0.0 and force == 0.0:
-                # At rest on a relaxed spring with F = 0: f stays 0 <= μ_s N, so no
-                # release (the search would creep to the double zero of μ_s P at a
-                # lift-off ending the piece).
+            if v == 0.0 and f == 0.0 and force == 0.0:  # no release: spring_lane_law's rule
                 return x, 0.0, 0.0, mode, switches
+            x0, v0, e0 = virtual_start(piece, tau, x, v, f - force)
             p = (v0, e0, force, mu_s, 0.0, 0.0)
             lane_2 = abs(v0) * piece[M_E1_2] + abs(e0) * piece[M_E2_2]
             lane_3 = abs(v0) * piece[M_E1_3] + abs(e0) * piece[M_E2_3]

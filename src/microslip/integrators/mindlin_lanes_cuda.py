@@ -95,6 +95,12 @@ def piece_table_row(tapes, rows, normal_c, setups, pieces, coarse):
         pieces[g, r, _CONSTANTS + q] = k[q]
 
 
+def mindlin_setup(piece, setups, g):
+    """Nothing to prepare per lane (``setup_lane`` of
+    :func:`~microslip.integrators.spring_lanes_cuda.lanes_kernel`): the set-up's mass,
+    gravity and ratio come with each piece's table row."""
+
+
 def mindlin_piece(tapes, g, r, a, h, setups, pieces, piece, force, fm, km, mu_s, mu_k, x, v,
                   f, mode):  # fmt: skip
     """A Mindlin lane over contact piece r of set-up g (``contact_piece`` of
@@ -126,8 +132,9 @@ def mindlin_piece(tapes, g, r, a, h, setups, pieces, piece, force, fm, km, mu_s,
 @functools.cache
 def _kernels():
     """(pieces' table kernel, lane kernel), compiled for the GPU on their first launch."""
-    table = cuda.jit(piece_table_row)
-    return table, lanes_kernel(cuda.jit(device=True)(mindlin_piece), law.PIECE)
+    device = cuda.jit(device=True)
+    lanes = lanes_kernel(device(mindlin_setup), device(mindlin_piece), law.PIECE)
+    return cuda.jit(piece_table_row), lanes
 
 
 def run_mindlin_lanes_cuda(normal_coeffs, normal_states0, ratio, group_of_lane, forces,

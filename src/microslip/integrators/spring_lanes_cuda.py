@@ -51,14 +51,15 @@ S_OMEGA, S_KT, S_MASS, S_GRAVITY = range(4)
 STALLED, COARSE = -1, -2  # a contact piece's switch count when the lane cannot go on
 
 
-def lanes_kernel(contact_piece, scratch_size):
+def lanes_kernel(setup_lane, contact_piece, scratch_size):
     """A CUDA kernel of compliant lanes, one thread per lane through its set-up's pieces
     as :func:`~microslip.integrators.spring_lanes.run_spring_lanes` (a lift-off relaxes
     the spring, :func:`~microslip.integrators.spring_lanes.flight_step` in flight), with
     ``contact_piece(tapes, g, r, a, h, setups, pieces, scratch, force, fm, km, mu_s,
     mu_k, x, v, f, mode)`` -> (flagged, switches, x, v, f, mode) on a contact piece
-    (switches STALLED or COARSE end the lane; only STALLED marks it stalled) and a
-    thread-local ``scratch`` of ``scratch_size`` floats. Compiled on its first launch."""
+    (switches STALLED or COARSE end the lane; only STALLED marks it stalled), a
+    thread-local ``scratch`` of ``scratch_size`` floats that ``setup_lane(scratch,
+    setups, g)`` prepares once per lane. Compiled on its first launch."""
 
     @cuda.jit
     def compliant_kernel(tapes, rows, lane_group, setups, pieces, lanes, flying, switches,
@@ -68,6 +69,7 @@ def lanes_kernel(contact_piece, scratch_size):
             return
         g = lane_group[i]
         scratch = cuda.local.array(scratch_size, float64)
+        setup_lane(scratch, setups, g)
         force, fm, km = lanes[FORCE, i], lanes[FM, i], lanes[KM, i]
         mu_s, mu_k = lanes[MU_S, i], lanes[MU_K, i]
         x, v, f, mode = lanes[X, i], lanes[V, i], lanes[FS, i], lanes[MODE, i]
@@ -106,16 +108,22 @@ def lanes_kernel(contact_piece, scratch_size):
     return compliant_kernel
 
 
+def spring_setup(piece, setups, g):
+    """Write set-up g's spring into the thread's scratch ``piece`` (``setup_lane`` of
+    :func:`lanes_kernel`)."""
+    set_spring(piece, setups[g, S_OMEGA], setups[g, S_KT], setups[g, S_MASS],
+               setups[g, S_GRAVITY])  # fmt: skip
+
+
 def spring_piece(tapes, g, r, a, h, setups, pieces, piece, force, fm, km, mu_s, mu_k, x, v, f,
                  mode):  # fmt: skip
     """A spring lane over contact piece r of set-up g (``contact_piece`` of
     :func:`lanes_kernel`, compiled as a device function): the CPU kernel's closed form
     where the piece holds no switch (:func:`~microslip.integrators.spring_lanes.free_piece`),
     else :func:`~microslip.integrators.spring_lane_law.lane_piece`; ``piece`` is the
-    thread's scratch, ``pieces`` unused. (A device function, not ``@njit``: under the
-    simulator it gets the simulator's arrays, which compiled code cannot take.)"""
-    set_spring(piece, setups[g, S_OMEGA], setups[g, S_KT], setups[g, S_MASS],
-               setups[g, S_GRAVITY])  # fmt: skip
+    thread's scratch (its spring written by :func:`spring_setup`), ``setups`` and
+    ``pieces`` unused. (A device function, not ``@njit``: under the simulator it gets
+    the simulator's arrays, which compiled code cannot take.)"""
     set_piece(piece, a, h)
     k = piece_constants(a, piece, h * tapes[g, r, nt.INT1], h * h * tapes[g, r, nt.KINT1])
     flag, x1, v1, f1 = free_piece(k, mode, x, v, f, force, fm, km, mu_s, mu_k)
@@ -127,7 +135,8 @@ def spring_piece(tapes, g, r, a, h, setups, pieces, piece, force, fm, km, mu_s, 
 
 @functools.cache
 def _kernel():
-    return lanes_kernel(cuda.jit(device=True)(spring_piece), PIECE)
+    device = cuda.jit(device=True)
+    return lanes_kernel(device(spring_setup), device(spring_piece), PIECE)
 
 
 def start_lanes(normal_coeffs, normal_states0, lanes, starts):

@@ -134,8 +134,9 @@ def forced_chunk(spec: SweepSpec, key: ChunkKey) -> np.ndarray:
             stacklevel=2,
         )
         half = 0.5 * FALLBACK_PERIODS * model.excitation.period
-        states = _batched_run(spec, model, forces, half).states
-        end = _batched_run(spec, model, forces, half, states0=states).states
+        dt = _time_step(spec, model)
+        states = _batched_run(model, forces, half, dt).states
+        end = _batched_run(model, forces, half, dt, states0=states).states
         return ((end[:, 2] - states[:, 2]) / half)[:, None]
     return mean_velocities(table, model.params.mu, forces)[:, None]
 
@@ -152,14 +153,15 @@ def compliant_time_chunk(spec: SweepSpec, key: ChunkKey) -> np.ndarray:
     """
     model = spec.model_at(key)
     forces = np.asarray(spec.forces, dtype=float)
+    dt = _time_step(spec, model)
     if spec.forced:
-        result = _batched_run(spec, model, forces, spec.duration)  # from rest at y0
+        result = _batched_run(model, forces, spec.duration, dt)  # from rest at y0
         return result.mean_velocity[:, None]
     amplitudes = spec.amplitudes[spec.amplitude_slice(key)]
     starts = [initial_state_from_amplitude(model.params, a) for a in amplitudes]
     states0 = np.repeat(np.array(starts), forces.size, axis=0)  # amplitude-major, then force
     lanes = np.tile(forces, len(starts))
-    result = _batched_run(spec, model, lanes, spec.duration, states0=states0)
+    result = _batched_run(model, lanes, spec.duration, dt, states0=states0)
     return result.mean_velocity.reshape(len(starts), forces.size).T
 
 
@@ -199,12 +201,11 @@ def _shared_run(models, normal0, forces, duration, dt, backend="cpu") -> np.ndar
     periods = _normal_periods(models, normal0)
     packed = {id(model): normal_coefficients(model.pack(0.0)) for model in models}
     coeffs = np.array([packed[id(model)] for model in models])
-    groups = np.repeat(np.arange(n_setups), forces.size)
-    lane_forces = np.tile(forces, n_setups)
-    mu = np.repeat([model.params.mu for model in models], forces.size)
     if time_kernel(models[0]) == "mindlin":
         x = _mindlin_run(models, coeffs, normal0, forces, duration, dt, periods, backend)
-    elif models[0].is_compliant:
+        return x.reshape(n_setups, forces.size)
+    groups, lane_forces, mu = _lane_arrays(models, forces)
+    if models[0].is_compliant:
         stiffness = [model.tangential.stiffness for model in models]
         if backend == "cuda":
             from microslip.integrators.spring_lanes_cuda import run_spring_lanes_cuda as run
@@ -223,6 +224,14 @@ def _shared_run(models, normal0, forces, duration, dt, backend="cpu") -> np.ndar
     return x.reshape(n_setups, forces.size)
 
 
+def _lane_arrays(models, forces):
+    """(set-up, force [N], μ [-]) of every lane of :func:`_shared_run`: each model's
+    set-up under every force, set-up-major."""
+    groups = np.repeat(np.arange(len(models)), forces.size)
+    mu = np.repeat([model.params.mu for model in models], forces.size)
+    return groups, np.tile(forces, len(models)), mu
+
+
 def _mindlin_run(models, coeffs, normal0, forces, duration, dt, periods, backend):
     """x(duration) [m] per lane (set-up-major) of the Mindlin lanes of :func:`_shared_run`.
 
@@ -230,7 +239,6 @@ def _mindlin_run(models, coeffs, normal0, forces, duration, dt, periods, backend
     docs/theory/numerics.md "Lanes on a Mindlin spring") runs on the batched RK4 kernel
     instead, one trajectory per force, and the other set-ups on the lanes again: each
     set-up's result still depends on nothing else in the run."""
-    from microslip.integrators.batched import simulate_batch
     from microslip.integrators.shared_lanes import LaneStalledError
 
     if backend == "cuda":
@@ -239,12 +247,12 @@ def _mindlin_run(models, coeffs, normal0, forces, duration, dt, periods, backend
         from microslip.integrators.mindlin_lanes import run_mindlin_lanes as run
 
     def lanes(setups):
-        n = setups.size
-        ratio = [models[g].tangential.ratio for g in setups]
-        mu = np.repeat([models[g].params.mu for g in setups], forces.size)
-        groups = np.repeat(np.arange(n), forces.size)
-        return run(coeffs[setups], normal0[setups], ratio, groups, np.tile(forces, n), mu, mu,
-                   duration, dt, periods=periods[setups])[0].reshape(n, forces.size)  # fmt: skip
+        picked = [models[g] for g in setups]
+        ratio = [model.tangential.ratio for model in picked]
+        groups, lane_forces, mu = _lane_arrays(picked, forces)
+        x = run(coeffs[setups], normal0[setups], ratio, groups, lane_forces, mu, mu, duration,
+                dt, periods=periods[setups])[0]  # fmt: skip
+        return x.reshape(setups.size, forces.size)
 
     everything = np.arange(len(models))
     try:
@@ -256,23 +264,21 @@ def _mindlin_run(models, coeffs, normal0, forces, duration, dt, periods, backend
     if rest.size:
         x[rest] = lanes(rest)
     for g in stalled:
-        batch = np.repeat(models[g].pack(0.0)[None, :], forces.size, axis=0)
-        batch[:, FORCE] = forces
         states0 = np.zeros((forces.size, 4))
         states0[:, :2] = normal0[g]
-        x[g] = simulate_batch(batch, states0, duration, dt).states[:, 2]
+        x[g] = _batched_run(models[g], forces, duration, dt, states0=states0).states[:, 2]
     return x.ravel()
 
 
-def _batched_run(spec, model, forces, duration, states0=None):
-    """The batched RK4 run (:class:`~microslip.integrators.batched.BatchResult`), one lane
-    per force [N], from ``states0`` at t = 0 (default: rest at y0, a relaxed spring).
+def _batched_run(model, forces, duration, dt, states0=None):
+    """The batched RK4 run (:class:`~microslip.integrators.batched.BatchResult`) of step
+    ``dt`` [s], one lane per force [N], from ``states0`` at t = 0 (default: rest at y0, a
+    relaxed spring).
 
     ``duration`` must be a whole number of excitation periods when ``states0`` continues
     an earlier run (the excitation restarts at phase 0)."""
     from microslip.integrators.batched import simulate_batch
 
-    dt = _time_step(spec, model)
     coeffs = np.repeat(model.pack(0.0)[None, :], forces.size, axis=0)
     coeffs[:, FORCE] = forces
     if states0 is None:
