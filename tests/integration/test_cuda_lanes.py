@@ -104,34 +104,28 @@ SIMULATED = textwrap.dedent(
     assert cpu[3].sum() > 15 and moving.sum() > 10, (cpu[3].sum(), moving.sum())
     print("same bits", int(cpu[3].sum()), "switches")
 
-    from test_cuda_lanes import spring_lanes
+    from test_cuda_lanes import mindlin_lanes, spring_lanes
+    from microslip.integrators.mindlin_lanes import run_mindlin_lanes
+    from microslip.integrators.mindlin_lanes_cuda import run_mindlin_lanes_cuda
     from microslip.integrators.spring_lanes import run_spring_lanes
     from microslip.integrators.spring_lanes_cuda import run_spring_lanes_cuda
 
-    args = spring_lanes(240)
-    cpu = run_spring_lanes(*args)
-    gpu = run_spring_lanes_cuda(*args, tape_rows=24)
-    for name, a, b in zip(("x", "v", "f", "mode", "switches", "flagged"), cpu, gpu):
-        assert np.array_equal(a, b), (name, a, b)
-    assert cpu[4].sum() > 15 and (cpu[3] == 2.0).any() and (np.abs(cpu[0]) > 0).sum() > 10
-    print("spring same bits", int(cpu[4].sum()), "switches")
-
-    from test_cuda_lanes import mindlin_lanes
-    from microslip.integrators.mindlin_lanes import run_mindlin_lanes
-    from microslip.integrators.mindlin_lanes_cuda import run_mindlin_lanes_cuda
-
-    args = mindlin_lanes(240)
-    cpu = run_mindlin_lanes(*args)
-    gpu = run_mindlin_lanes_cuda(*args, tape_rows=24)
-    for name, a, b in zip(("x", "v", "f", "mode", "switches", "flagged"), cpu, gpu):
-        assert np.array_equal(a, b), (name, a, b)
-    assert cpu[4].sum() > 15 and (cpu[3] == 2.0).any() and (np.abs(cpu[0]) > 0).sum() > 10
-    # A step too coarse for the tangential oscillation is refused as on the CPU.
+    for kernel, lanes, on_cpu, on_gpu in (
+        ("spring", spring_lanes, run_spring_lanes, run_spring_lanes_cuda),
+        ("mindlin", mindlin_lanes, run_mindlin_lanes, run_mindlin_lanes_cuda),
+    ):
+        args = lanes(240)
+        cpu = on_cpu(*args)
+        gpu = on_gpu(*args, tape_rows=24)
+        for name, a, b in zip(("x", "v", "f", "mode", "switches", "flagged"), cpu, gpu):
+            assert np.array_equal(a, b), (kernel, name, a, b)
+        assert cpu[4].sum() > 15 and (cpu[3] == 2.0).any() and (np.abs(cpu[0]) > 0).sum() > 10
+        print(kernel, "same bits", int(cpu[4].sum()), "switches")
+    # A step too coarse for the Mindlin tangential oscillation is refused as on the CPU.
     coarse = list(args)
     coarse[-1] *= 100.0
     with pytest.raises(ValueError, match="too coarse for the Mindlin"):
         run_mindlin_lanes_cuda(*coarse)
-    print("mindlin same bits", int(cpu[4].sum()), "switches")
 
     # The public path: velocity_map / sweep with backend="cuda", free and forced.
     import tempfile
