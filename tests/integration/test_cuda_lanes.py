@@ -103,6 +103,18 @@ SIMULATED = textwrap.dedent(
     moving = np.abs(cpu[0]) > 0
     assert cpu[3].sum() > 15 and moving.sum() > 10, (cpu[3].sum(), moving.sum())
     print("same bits", int(cpu[3].sum()), "switches")
+    # Free set-ups on a repeated tape (~4 periods): lanes that repeat a period park and
+    # take the rest at once on both, with the same bits (shared_lanes._run_cycle).
+    import microslip as ms
+    from test_cuda_lanes import PARAMS
+    amplitudes = PARAMS.static_deflection - args[1][:, 0]
+    periods = [ms.free_period(PARAMS, a) if a > 0.0 else 0.0 for a in amplitudes[:3]] + [0.0]
+    args = mixed_lanes(850)
+    cpu = run_shared(*args, periods=periods)
+    gpu = run_shared_cuda(*args, tape_rows=200, periods=periods)  # blocks cut periods
+    for name, a, b in zip(("x", "v", "mode", "switches", "flagged"), cpu, gpu):
+        assert np.array_equal(a, b), ("repeated", name, a, b)
+    assert not np.array_equal(cpu[0], run_shared(*args, periods=periods, park=False)[0])
 
     from test_cuda_lanes import mindlin_lanes, spring_lanes
     from microslip.integrators.mindlin_lanes import run_mindlin_lanes

@@ -74,9 +74,20 @@ def _lanes(n_setups=5, n_forces=7):
     return coeffs, normal0, groups, forces, mu_s, mu_k
 
 
-def test_lanes_bit_identical_whatever_their_company_order_and_threads():
+def _free_periods(normal0):
+    """T(A) [s] of each free set-up started at rest at y0 - A (0 for A = 0: no cycle)."""
+    amplitudes = PARAMS.static_deflection - normal0[:, 0]
+    return np.array([ms.free_period(PARAMS, a) if a > 0.0 else 0.0 for a in amplitudes])
+
+
+@pytest.mark.parametrize("repeated", [False, True])
+def test_lanes_bit_identical_whatever_their_company_order_and_threads(repeated):
+    """Also on repeated tapes (``repeated``: ~6 periods), where lanes that repeat a period
+    are parked and moved about (shared_lanes._run_cycle): a lane that came back to
+    another's column, or whose parking hung on the others, would break it."""
     coeffs, normal0, groups, forces, mu_s, mu_k = _lanes()
-    args = (0.004, T0 / 200)
+    periods = _free_periods(normal0) if repeated else None
+    args = (0.004, T0 / 200, None, None, periods)
     whole = run_shared(coeffs, normal0, groups, forces, mu_s, mu_k, *args)
     assert np.any(whole[3] > 2)  # lanes do switch (stick-slip)
     perm = RNG.permutation(forces.size)
@@ -88,7 +99,8 @@ def test_lanes_bit_identical_whatever_their_company_order_and_threads():
     for lane in (3, 17, 30):
         g = groups[lane]
         alone = run_shared(coeffs[g : g + 1], normal0[g : g + 1], [0], forces[lane : lane + 1],
-                           mu_s[lane : lane + 1], mu_k[lane : lane + 1], *args)  # fmt: skip
+                           mu_s[lane : lane + 1], mu_k[lane : lane + 1], *args[:4],
+                           None if periods is None else periods[g : g + 1])  # fmt: skip
         assert alone[0][0] == whole[0][lane] and alone[1][0] == whole[1][lane]
     threads = numba.get_num_threads()
     try:
@@ -98,6 +110,31 @@ def test_lanes_bit_identical_whatever_their_company_order_and_threads():
         numba.set_num_threads(threads)
     for a, b in zip(whole, single, strict=True):
         assert np.array_equal(a, b)
+
+
+def test_repeating_lanes_take_their_remaining_periods_at_once():
+    """On a free vibration's repeated tape (~30 periods) a lane that starts a period as
+    it started the last one takes its remaining periods at once (park=True, the
+    default). Against every lane stepped through every period (park=False): the same ẋ,
+    mode and counts bit for bit, x within 1e-12 of the largest |x|. One period too many or
+    too few is a whole period's Δx (~3 % of x); parking a lane that does not repeat
+    changes its ẋ or mode; a lane put back in another's column swaps values."""
+    coeffs, normal0, groups, forces, mu_s, mu_k = _lanes(n_setups=5, n_forces=9)
+    periods = _free_periods(normal0)
+    x0 = np.where(np.arange(forces.size) % 4 == 1, 1e-6, 0.0)  # x never feeds back
+    v0 = np.where(np.arange(forces.size) % 5 == 2, -2e-5, 0.0)  # some start sliding
+    run = (coeffs, normal0, groups, forces, mu_s, mu_k, 30.5 * periods.max(), T0 / 200, x0, v0)
+    parked = run_shared(*run, periods=periods)
+    stepped = run_shared(*run, periods=periods, park=False)
+    for name, a, b in zip(
+        ("v", "mode", "switches", "flagged"), parked[1:], stepped[1:], strict=True
+    ):
+        assert np.array_equal(a, b), name
+    assert np.abs(parked[0] - stepped[0]).max() <= 1e-12 * np.abs(stepped[0]).max()
+    assert np.any(parked[0] != stepped[0])  # the shortcut was taken (else the same bits)
+    assert (stepped[3] > 40).sum() > 10  # lanes stick and slip every period
+    creeping = stepped[3] > 40
+    assert np.all(np.abs(stepped[0][creeping] - x0[creeping]) > 0.0)
 
 
 def test_zero_force_lane_never_moves():

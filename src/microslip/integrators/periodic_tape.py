@@ -13,7 +13,8 @@ The normal motion is then the same 4th-order approximation over every period: th
 phase error of a tape filled step by step, which grows by the RK4 error every period,
 is gone, and a set-up's lanes cost the integration of one period, not of the whole run
 (1/74 of it over the paper's 0.05 s). The caller gives T; a set-up without one (0) is
-filled step by step as before.
+filled step by step as before. The rigid lanes go further: a lane that repeats a period
+skips the rest (:func:`microslip.integrators.shared_lanes._run_cycle`).
 """
 
 from __future__ import annotations

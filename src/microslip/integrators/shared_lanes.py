@@ -14,7 +14,9 @@ switch may lie inside the piece; a flagged lane is redone alone
 Every lane's arithmetic depends only on its own parameters and its group's tape, and the
 vector loop is compiled without fastmath (no FMA contraction): a lane's result is
 bit-identical whatever the other lanes, their number, their order or the threads.
-Groups (normal set-ups) run in parallel over the cores (``prange``).
+Groups (normal set-ups) run in parallel over the cores (``prange``). On a periodic
+normal motion's repeated tape a lane that starts a period as it started the last one
+takes its remaining periods at once (:func:`_run_cycle`).
 """
 
 from __future__ import annotations
@@ -25,6 +27,7 @@ import numpy as np
 from numba import njit, parallel_chunksize, prange
 
 from microslip import _jit_cache  # noqa: F401  (registers the cache before any @njit)
+from microslip.integrators import lane_parking as parking
 from microslip.integrators import normal_tape as nt
 from microslip.integrators import periodic_tape
 from microslip.integrators.rigid_lane_law import free_piece, lane_piece
@@ -100,67 +103,120 @@ def start_modes(lanes, lo, hi, n0):
 
 
 @njit(cache=True)
-def _run_group(c, y0, ydot0, cycle, shape, t_end, dt, lanes, switches, flagged):
+def _active_end(lanes, n):
+    """One past the last of lanes [0, n) that is not stuck (0 if none)."""
+    while n > 0 and lanes[MODE, n - 1] == 0.0:
+        n -= 1
+    return n
+
+
+@njit(cache=True)
+def _lanes_over_rows(tape, r0, r1, lanes, n, n_active, switches, flagged):
+    """Lanes [0, n) (sorted by decreasing |F|/μ_s) through rows [r0, r1) of ``tape``,
+    in place; ``n_active`` as in :func:`_run_group`. Returns (status, n_active)."""
+    for r in range(r0, r1):
+        h = tape[r, nt.H]
+        p_min = tape[r, nt.PMIN]
+        # Lanes a piece can release: |F|/μ_s > min P, a prefix (bisection).
+        lo, hi = 0, n
+        while lo < hi:
+            mid = (lo + hi) // 2
+            if lanes[N_RELEASE, mid] > p_min:
+                lo = mid + 1
+            else:
+                hi = mid
+        n_range = max(n_active, lo)
+        n_flagged, last = _vector_pass(
+            lanes, n_range, h, h * tape[r, nt.INT1], h * h * tape[r, nt.KINT1], p_min,
+            tape[r, nt.PMAX],
+        )  # fmt: skip
+        a = nt.coefficients(tape, r)
+        crit = nt.critical_points(tape, r)
+        for i in range(last, -1, -1):  # lanes are independent: any order
+            if n_flagged == 0:  # the rest of the lanes went through the vector pass
+                break
+            if lanes[FLAG, i] != 0.0:
+                n_flagged -= 1
+                flagged[i] += 1
+                xi, vi, mi, k = lane_piece(
+                    a, crit, h, lanes[FM, i], lanes[KM, i], lanes[N_RELEASE, i],
+                    lanes[N_BALANCE, i], lanes[DIRECTION, i], lanes[X, i], lanes[V, i],
+                    lanes[MODE, i],
+                )  # fmt: skip
+                if k < 0:
+                    return LANE_STALLED, n_active
+                switches[i] += k
+                lanes[X, i], lanes[V, i], lanes[MODE, i] = xi, vi, mi
+        n_active = _active_end(lanes, n_range)
+    return OK, n_active
+
+
+@njit(cache=True)
+def _run_group(c, y0, ydot0, cycle, shape, t_end, dt, lanes, switches, flagged, park):
     """One normal set-up and its lanes (rows FM ... FLAG of ``lanes``), sorted by
     decreasing |F|/μ_s, in place; returns the status. Only lanes [0, n_active) can be
     moving: past it every lane sticks, and one that a piece cannot release
-    (|F|/μ_s <= min P) is left alone."""
+    (|F|/μ_s <= min P) is left alone. A periodic normal motion (``shape`` from
+    :func:`periodic_tape.cycle_rows` with period rows > 0) goes through
+    :func:`_run_cycle`."""
     n = lanes.shape[1]
     start_modes(lanes, 0, n, normal_force(0.0, y0, ydot0, c))
-    n_active = n
-    while n_active > 0 and lanes[MODE, n_active - 1] == 0.0:
-        n_active -= 1
+    n_active = _active_end(lanes, n)
+    if shape[0] > 0:
+        return _run_cycle(cycle, shape, lanes, switches, flagged, n_active, park)
     carry, tape, work = nt.tape_buffers(y0, ydot0)
     while True:
-        if shape[0] > 0:
-            rows, tape_status = periodic_tape.repeat_rows(carry, tape, cycle, shape)
-        else:
-            rows, tape_status = nt.fill_tape(carry, c, t_end, dt, tape, work)
+        rows, tape_status = nt.fill_tape(carry, c, t_end, dt, tape, work)
         if tape_status > 1:
             return tape_status
-        for r in range(rows):
-            h = tape[r, nt.H]
-            p_min = tape[r, nt.PMIN]
-            # Lanes a piece can release: |F|/μ_s > min P, a prefix (bisection).
-            lo, hi = 0, n
-            while lo < hi:
-                mid = (lo + hi) // 2
-                if lanes[N_RELEASE, mid] > p_min:
-                    lo = mid + 1
-                else:
-                    hi = mid
-            n_range = max(n_active, lo)
-            n_flagged, last = _vector_pass(
-                lanes, n_range, h, h * tape[r, nt.INT1], h * h * tape[r, nt.KINT1], p_min,
-                tape[r, nt.PMAX],
-            )  # fmt: skip
-            a = nt.coefficients(tape, r)
-            crit = nt.critical_points(tape, r)
-            for i in range(last, -1, -1):  # lanes are independent: any order
-                if n_flagged == 0:  # the rest of the lanes went through the vector pass
-                    break
-                if lanes[FLAG, i] != 0.0:
-                    n_flagged -= 1
-                    flagged[i] += 1
-                    xi, vi, mi, k = lane_piece(
-                        a, crit, h, lanes[FM, i], lanes[KM, i], lanes[N_RELEASE, i],
-                        lanes[N_BALANCE, i], lanes[DIRECTION, i], lanes[X, i], lanes[V, i],
-                        lanes[MODE, i],
-                    )  # fmt: skip
-                    if k < 0:
-                        return LANE_STALLED
-                    switches[i] += k
-                    lanes[X, i], lanes[V, i], lanes[MODE, i] = xi, vi, mi
-            n_active = n_range
-            while n_active > 0 and lanes[MODE, n_active - 1] == 0.0:
-                n_active -= 1
+        status, n_active = _lanes_over_rows(tape, 0, rows, lanes, n, n_active, switches, flagged)
+        if status != OK:
+            return status
         if tape_status == 0:
             return OK
 
 
+@njit(cache=True)
+def _run_cycle(cycle, shape, lanes, switches, flagged, n_active, park):
+    """The lanes through ``repeats`` periods of ``cycle`` and its tail (``shape`` =
+    (period rows, tail rows, repeats, T)), in place; returns the status.
+
+    Every period's pieces are the same rows, and a lane's law reads its state (ẋ, mode)
+    and never x. So a lane that starts a period in the state it started the previous one
+    with repeats that period, bit for bit, and so every period up to the tail. With
+    ``park`` such a lane is parked (moved past the live lanes, out of every pass) and
+    at the tail takes its remaining periods at once: x += (periods left) Δx, the counts
+    likewise, Δx its last period's increment of x. That differs from adding Δx period by
+    period only in rounding (docs/theory/numerics.md, "Repeating lanes"). Whether a lane
+    parks depends on that lane alone, so its bits still do not depend on the others.
+    """
+    period_rows, tail_rows, repeats, _period = shape
+    n = lanes.shape[1]
+    book = parking.new_book(n)
+    n_live = n
+    for k in range(repeats):
+        if park:
+            parking.mark_period_start(lanes, switches, flagged, book, n_live, X, V, MODE)
+        status, n_active = _lanes_over_rows(
+            cycle, 0, period_rows, lanes, n_live, n_active, switches, flagged
+        )
+        if status != OK:
+            return status
+        if park and k + 1 < repeats:
+            n_live = parking.park(lanes, switches, flagged, book, n_live, k + 1, X, V, MODE)
+            # The live lanes kept their order: the moving ones are still below n_active.
+            n_active = _active_end(lanes, min(n_active, n_live))
+    if n_live < n:
+        parking.unpark(lanes, switches, flagged, book, n_live, repeats, X)
+    return _lanes_over_rows(
+        cycle, period_rows, period_rows + tail_rows, lanes, n, _active_end(lanes, n),
+        switches, flagged,
+    )[0]  # fmt: skip
+
+
 @njit(cache=True, parallel=True)
 def _run_groups(normal_c, y0, ydot0, cycles, offsets, shapes, starts, lanes, switches, flagged,
-                status, t_end, dt):  # fmt: skip
+                status, t_end, dt, park):  # fmt: skip
     for g in prange(normal_c.shape[0]):
         lo, hi = starts[g], starts[g + 1]
         group_lanes = np.ascontiguousarray(lanes[:, lo:hi])
@@ -169,7 +225,7 @@ def _run_groups(normal_c, y0, ydot0, cycles, offsets, shapes, starts, lanes, swi
         cycle, shape = periodic_tape.group_cycle(cycles, offsets, shapes, g)
         status[g] = _run_group(
             normal_c[g].copy(), y0[g], ydot0[g], cycle, shape, t_end, dt, group_lanes,
-            group_switches, group_flagged,
+            group_switches, group_flagged, park,
         )  # fmt: skip
         lanes[:, lo:hi] = group_lanes
         switches[lo:hi] = group_switches
@@ -177,7 +233,7 @@ def _run_groups(normal_c, y0, ydot0, cycles, offsets, shapes, starts, lanes, swi
 
 
 def run_shared(normal_coeffs, normal_states0, group_of_lane, forces, mu_static, mu_kinetic,
-               t_end, dt, x0=None, v0=None, periods=None):  # fmt: skip
+               t_end, dt, x0=None, v0=None, periods=None, park=True):  # fmt: skip
     """Final tangential states of many lanes on shared normal motions (arrays, SI).
 
     Parameters
@@ -192,6 +248,9 @@ def run_shared(normal_coeffs, normal_states0, group_of_lane, forces, mu_static, 
     periods : (G,) period [s] of each set-up's normal motion where it is periodic from
         t = 0 (a conservative free vibration), else 0 (default: all 0): one period's
         tape is then repeated (:mod:`~microslip.integrators.periodic_tape`).
+    park : on a repeated tape, a lane that starts a period as it started the last one
+        takes its remaining periods at once (:func:`_run_cycle`); False steps every
+        lane through every period (the same result to rounding, slower).
 
     Returns (x, ẋ, mode, switches, flagged) per lane at ``t_end``; raises RuntimeError
     if a normal integration or a lane fails.
@@ -209,7 +268,7 @@ def run_shared(normal_coeffs, normal_states0, group_of_lane, forces, mu_static, 
     with parallel_chunksize(1):
         _run_groups(
             normal_coeffs, normal_states0[:, 0].copy(), normal_states0[:, 1].copy(), *cycles,
-            starts, lanes, switches, flagged, status, float(t_end), float(dt),
+            starts, lanes, switches, flagged, status, float(t_end), float(dt), bool(park),
         )  # fmt: skip
     raise_on_failure(status, "shared-normal kernel")
     return unpack_lanes(lanes, order, switches, flagged)

@@ -31,6 +31,7 @@ from numba import njit, prange
 from microslip import _jit_cache  # noqa: F401  (registers the cache before any @njit)
 from microslip.integrators import normal_tape as nt
 from microslip.integrators import periodic_tape
+from microslip.integrators.lane_parking import starts_as_before
 from microslip.integrators.rigid_lane_law import free_piece, lane_piece
 from microslip.integrators.shared_lanes import (
     DIRECTION,
@@ -74,13 +75,23 @@ def cuda_unavailable() -> str | None:
     return "no CUDA GPU is available here (numba.cuda.is_available() is False)"
 
 
+# Rows of a lane's book on the GPU (integrators/lane_parking.py, per thread): the rows of
+# its set-up done so far; the period it parked at (0: live); x, ẋ, mode and the two
+# counts at the last period start; its increments per period once parked.
+B_ROW, B_AT, B_X, B_V, B_MODE, B_SWITCHES, B_FLAGGED, B_DX, B_DSWITCHES, B_DFLAGGED = range(10)
+BOOK_ROWS = 10
+
+
 @functools.cache
 def _kernel():
     """The lane kernel, compiled for the GPU on its first launch."""
 
     @cuda.jit
-    def lanes_kernel(tapes, rows, lane_group, lanes, switches, flagged, stalled):
-        # One thread per lane (a column of ``lanes``): through its set-up's pieces.
+    def lanes_kernel(tapes, rows, lane_group, period_rows, repeats, lanes, book, switches,
+                     flagged, stalled):  # fmt: skip
+        # One thread per lane (a column of ``lanes``): through its set-up's pieces. On a
+        # repeated tape (period_rows > 0) a lane that starts a period as it started the
+        # last one parks until the tail, as in the CPU kernel (shared_lanes._run_cycle).
         i = cuda.grid(1)
         if i >= lanes.shape[1]:
             return
@@ -89,9 +100,34 @@ def _kernel():
         n_release, n_balance = lanes[N_RELEASE, i], lanes[N_BALANCE, i]
         direction = lanes[DIRECTION, i]
         x, v, mode = lanes[X, i], lanes[V, i], lanes[MODE, i]
-        n_switches = 0
-        n_flagged = 0
-        for r in range(rows[g]):
+        n_switches = switches[i]
+        n_flagged = flagged[i]
+        period, repeated = period_rows[g], period_rows[g] * repeats[g]
+        j = int(book[B_ROW, i])
+        for r in range(rows[g] + 1):  # the pass past the last row: a parked lane unparks
+            if period > 0 and j == repeated and book[B_AT, i] != 0.0:  # the tail starts
+                left = repeats[g] - book[B_AT, i]
+                x += left * book[B_DX, i]
+                n_switches += int(left * book[B_DSWITCHES, i])
+                n_flagged += int(left * book[B_DFLAGGED, i])
+                book[B_AT, i] = 0.0
+            if r == rows[g]:
+                break
+            if period > 0 and j < repeated:
+                if book[B_AT, i] != 0.0:  # parked
+                    j += 1
+                    continue
+                if j % period == 0:  # a period starts
+                    if j > 0 and starts_as_before(v, mode, book[B_V, i], book[B_MODE, i]):
+                        book[B_AT, i] = j // period
+                        book[B_DX, i] = x - book[B_X, i]
+                        book[B_DSWITCHES, i] = n_switches - book[B_SWITCHES, i]
+                        book[B_DFLAGGED, i] = n_flagged - book[B_FLAGGED, i]
+                        j += 1
+                        continue
+                    book[B_X, i], book[B_V, i], book[B_MODE, i] = x, v, mode
+                    book[B_SWITCHES, i], book[B_FLAGGED, i] = n_switches, n_flagged
+            j += 1
             h = tapes[g, r, nt.H]
             p_min = tapes[g, r, nt.PMIN]
             p_max = tapes[g, r, nt.PMAX]
@@ -119,8 +155,9 @@ def _kernel():
                 break
             n_switches += k
         lanes[X, i], lanes[V, i], lanes[MODE, i] = x, v, mode
-        switches[i] += n_switches
-        flagged[i] += n_flagged
+        switches[i] = n_switches
+        flagged[i] = n_flagged
+        book[B_ROW, i] = j
 
     return lanes_kernel
 
@@ -146,7 +183,7 @@ def _fill_tapes(normal_c, carries, works, tapes, rows, status, t_end, dt, cycles
 
 
 def run_blocks(kernel, normal_coeffs, normal_states0, n_lanes, t_end, dt, tape_rows, stream,
-               lane_args, periods=None, prepare=None):  # fmt: skip
+               lane_args, periods=None, prepare=None, cycles=None):  # fmt: skip
     """Fill every set-up's tape block by block on the CPU cores and run
     ``kernel[blocks, THREADS_PER_BLOCK, stream](tapes, rows, *lane_args)`` on each block
     (one thread per lane; ``lane_args`` on the GPU, in ``stream``), after
@@ -154,10 +191,12 @@ def run_blocks(kernel, normal_coeffs, normal_states0, n_lanes, t_end, dt, tape_r
     queued on the same stream). Returns the status per set-up (0, or a normal
     integration's failure) once the work is queued: the caller's copies back on
     ``stream`` wait for it. ``periods``: the set-ups' periodic normal motions, as for
-    :func:`~microslip.integrators.shared_lanes.run_shared`."""
+    :func:`~microslip.integrators.shared_lanes.run_shared`, or their ``cycles``
+    (:func:`~microslip.integrators.periodic_tape.cycles`) where the caller has them."""
     n_groups = normal_coeffs.shape[0]
     t_end, dt = float(t_end), float(dt)
-    cycles = periodic_tape.cycles(normal_coeffs, normal_states0, periods, t_end, dt)
+    if cycles is None:
+        cycles = periodic_tape.cycles(normal_coeffs, normal_states0, periods, t_end, dt)
     carries = np.empty((n_groups, nt.CARRY))
     for g in range(n_groups):
         carries[g] = nt.start_tape(normal_states0[g, 0], normal_states0[g, 1])
@@ -195,14 +234,15 @@ def run_blocks(kernel, normal_coeffs, normal_states0, n_lanes, t_end, dt, tape_r
 
 def run_lanes(kernel, name, normal_coeffs, normal_states0, lanes, lane_group, t_end, dt,
               tape_rows, before=(), after=(), periods=None, prepare=None,
-              check=None):  # fmt: skip
+              check=None, cycles=None):  # fmt: skip
     """Run ``kernel`` over every block of tapes (:func:`run_blocks`, with ``prepare``) on
     ``lanes`` (rows x lanes, a column per lane, ``lane_group`` its set-up) and return
     (lanes, switches, flagged) from the GPU. The kernel takes (tapes, rows, lane_group,
     *before, lanes, *after, switches, flagged, stalled), ``before`` and ``after`` host
     arrays that go to the GPU with it (or arrays on the GPU already). ``check()``, where
     given, runs once the GPU is done and may raise first; then RuntimeError naming
-    ``name`` and the set-up if a normal integration failed or a lane stalled."""
+    ``name`` and the set-up if a normal integration failed or a lane stalled. ``periods``
+    or ``cycles`` as for :func:`run_blocks`."""
     n_groups, n_lanes = normal_coeffs.shape[0], lanes.shape[1]
     stream = cuda.stream()
 
@@ -217,7 +257,7 @@ def run_lanes(kernel, name, normal_coeffs, normal_states0, lanes, lane_group, t_
             cuda.to_device(lane_group, stream=stream),
             *(on_device(a) for a in before), d_lanes, *(on_device(a) for a in after), *counts,
         ),
-        periods, prepare,
+        periods, prepare, cycles,
     )  # fmt: skip
     lanes = d_lanes.copy_to_host(stream=stream)
     switches, flagged, stalled = (d.copy_to_host(stream=stream) for d in counts)
@@ -256,8 +296,12 @@ def run_shared_cuda(normal_coeffs, normal_states0, group_of_lane, forces, mu_sta
         n0 = normal_force(0.0, y0, ydot0, normal_coeffs[g])
         start_modes(lanes, starts[g], starts[g + 1], n0)
     lane_group = np.repeat(np.arange(n_groups), np.diff(starts))
+    cycles = periodic_tape.cycles(normal_coeffs, normal_states0, periods, float(t_end), float(dt))
+    shapes = cycles[2]
+    period_rows, repeats = shapes[:, 0].astype(np.int64), shapes[:, 2].astype(np.int64)
     lanes, switches, flagged = run_lanes(
         _kernel(), "shared-normal kernel (CUDA)", normal_coeffs, normal_states0, lanes,
-        lane_group, t_end, dt, tape_rows, periods=periods,
+        lane_group, t_end, dt, tape_rows, before=(period_rows, repeats),
+        after=(np.zeros((BOOK_ROWS, order.size)),), cycles=cycles,
     )  # fmt: skip
     return unpack_lanes(lanes, order, switches, flagged)
