@@ -73,7 +73,9 @@ STEADY_S_PER_POINT = 0.6e-6
 # 2026-11-24 on the paper's data, dt = T0/200, idle 2-core machine: 66 ns per set-up
 # step (the tape) on one thread, and 1.9 ns per lane-step per thread over a 256 x 256
 # map (0.05 s), switches included (~1 in 100 lane-steps, ~0.1-0.2 us each). Rounded up
-# ~3x and ~2x (the machine may be loaded).
+# ~3x and ~2x (the machine may be loaded). Every lane is counted through every step: on
+# a free vibration's repeated tape the lanes that repeat a period skip the rest
+# (integrators/shared_lanes.py), so such a map may run ten times faster than estimated.
 SHARED_S_PER_SETUP_STEP = 0.2e-6
 SHARED_S_PER_LANE_STEP = 4e-9
 # One tape buffer per thread (normal_tape.TAPE_ROWS x ROW) and a piece vector.

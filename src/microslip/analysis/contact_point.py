@@ -44,10 +44,13 @@ from microslip.analysis.normal_pieces import (
     INT_N,
     K_A,
     K_B,
+    K_M,
     N_A,
     N_B,
+    N_M,
     RATE_A,
     RATE_B,
+    RATE_M,
     A,
     B,
     normal_at,
@@ -211,7 +214,11 @@ def _period(phase, f, law, pieces, src, tol_f, tol_s, xtol):
             if s_b < -tol_s:
                 root = _root(SLIP_RATE, t, b, tol_s, s_b, t, f, law, src, xtol)
             else:
-                s_m = _switching(SLIP_RATE, 0.5 * (t + b), t, f, law, src)
+                if t == a:  # the middle's N, Ṅ, K are the piece's: shared by all speeds
+                    k_m = _stiffness(pieces[p, K_M], law) if pieces[p, N_M] > 0.0 else 0.0
+                    s_m = k_m * v - mu_k * pieces[p, RATE_M]
+                else:
+                    s_m = _switching(SLIP_RATE, 0.5 * (t + b), t, f, law, src)
                 if s_m < -tol_s:
                     root = _root(SLIP_RATE, t, 0.5 * (t + b), tol_s, s_m, t, f, law, src, xtol)
             if root > t:  # the point stops on the kinetic limit and sticks

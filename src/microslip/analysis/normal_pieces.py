@@ -34,9 +34,11 @@ CLOSED_FORM = 0.0
 TABLE = 1.0
 
 # Columns of a piece: its ends [s], contact flag, ∫N [N s], ∫K [N s/m], ∫(b - s) K(s) ds
-# [N s²/m], and (N [N], Ṅ [N/s], K [N/m]) at both ends (one-sided at a contact switch).
+# [N s²/m], and (N [N], Ṅ [N/s], K [N/m]) at both ends (one-sided at a contact switch)
+# and at its middle (a + b)/2, where the walk looks for a slip that ends inside.
 A, B, CONTACT, INT_N, INT_K, INT_K2, N_A, RATE_A, K_A, N_B, RATE_B, K_B = range(12)
-N_COLUMNS = 12
+N_M, RATE_M, K_M = range(12, 15)
+N_COLUMNS = 15
 
 GAUSS_NODES, GAUSS_WEIGHTS = np.polynomial.legendre.leggauss(8)
 _GRADING = 12  # a piece next to a contact switch is split at h/2, h/4, ..., h/2^12
@@ -161,6 +163,7 @@ def build_pieces(base, src):
         tb = b - _NUDGE * (b - a) if right_switch[i + 1] else b
         pieces[i, N_A], pieces[i, RATE_A], pieces[i, K_A] = normal_at(ta, src)
         pieces[i, N_B], pieces[i, RATE_B], pieces[i, K_B] = normal_at(tb, src)
+        pieces[i, N_M], pieces[i, RATE_M], pieces[i, K_M] = normal_at(0.5 * (a + b), src)
         for j in range(GAUSS_NODES.shape[0] + 2):
             s = ta if j == 0 else (tb if j == 1 else a + 0.5 * (b - a) * (GAUSS_NODES[j - 2] + 1))
             for which in range(2):
