@@ -77,18 +77,27 @@ def _stiffness(k_elastic, law):
 
 
 @njit(cache=True, inline="always")
+def _slip_function(n, rate, k_elastic, law):
+    """k_t v - μ_k Ṅ [N/s] where the normal force is n [N], its rate ``rate`` [N/s] and
+    the elastic stiffness ``k_elastic`` [N/m] (k_t = 0 out of contact)."""
+    v, mu_k = law[0], law[2]
+    k = _stiffness(k_elastic, law) if n > 0.0 else 0.0
+    return k * v - mu_k * rate
+
+
+@njit(cache=True, inline="always")
 def _switching(which, x, t0, f0, law, src):
     """At time x: the stick margin μ_s N - f (f = f0 + v ∫_t0^x k_t), its rate, or the
-    slip function k_t v - μ_k Ṅ."""
-    v, mu_s, mu_k, kconst, lam = law
+    slip function k_t v - μ_k Ṅ (:func:`_slip_function`)."""
+    v, mu_s, _mu_k, kconst, lam = law
     n, rate, k_el = normal_at(x, src)
     if which == MARGIN:
         grown = kconst * (x - t0) if kconst > 0.0 else lam * piece_integrals(t0, x, src)[1]
         return mu_s * n - (f0 + v * grown)
-    k = _stiffness(k_el, law) if n > 0.0 else 0.0
     if which == MARGIN_RATE:
+        k = _stiffness(k_el, law) if n > 0.0 else 0.0
         return mu_s * rate - k * v
-    return k * v - mu_k * rate
+    return _slip_function(n, rate, k_el, law)
 
 
 @njit(cache=True)
@@ -215,8 +224,7 @@ def _period(phase, f, law, pieces, src, tol_f, tol_s, xtol):
                 root = _root(SLIP_RATE, t, b, tol_s, s_b, t, f, law, src, xtol)
             else:
                 if t == a:  # the middle's N, Ṅ, K are the piece's: shared by all speeds
-                    k_m = _stiffness(pieces[p, K_M], law) if pieces[p, N_M] > 0.0 else 0.0
-                    s_m = k_m * v - mu_k * pieces[p, RATE_M]
+                    s_m = _slip_function(pieces[p, N_M], pieces[p, RATE_M], pieces[p, K_M], law)
                 else:
                     s_m = _switching(SLIP_RATE, 0.5 * (t + b), t, f, law, src)
                 if s_m < -tol_s:

@@ -39,6 +39,14 @@ def starts_as_before(v, mode, v_mark, mode_mark):
     return mode == mode_mark and v == v_mark and math.copysign(1.0, v) == math.copysign(1.0, v_mark)
 
 
+@njit(cache=True, inline="always")
+def after_periods(left, x, switches, flagged, dx, dswitches, dflagged):
+    """(x [m], switches, flagged) of a parked lane after ``left`` more periods of its
+    increments (dx [m], dswitches, dflagged) per period. The CPU kernel and the GPU's
+    threads both take their periods through it: the same bits."""
+    return x + left * dx, switches + int(left * dswitches), flagged + int(left * dflagged)
+
+
 @njit(cache=True)
 def new_book(n):
     """The book of n lanes in their columns, none parked."""
@@ -108,10 +116,10 @@ def unpark(lanes, switches, flagged, book, n_live, repeats, x_row):
     column."""
     n = lanes.shape[1]
     for i in range(n_live, n):
-        left = repeats - book[B_AT, i]
-        lanes[x_row, i] += left * book[B_DX, i]
-        switches[i] += int(left * book[B_DSWITCHES, i])
-        flagged[i] += int(left * book[B_DFLAGGED, i])
+        lanes[x_row, i], switches[i], flagged[i] = after_periods(
+            repeats - book[B_AT, i], lanes[x_row, i], switches[i], flagged[i], book[B_DX, i],
+            book[B_DSWITCHES, i], book[B_DFLAGGED, i],
+        )  # fmt: skip
     held = (lanes.copy(), switches.copy(), flagged.copy(), book.copy())
     for i in range(n):
         _copy_lane(*held, i, lanes, switches, flagged, book, int(held[3][B_COLUMN, i]))

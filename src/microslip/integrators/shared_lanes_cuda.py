@@ -31,7 +31,7 @@ from numba import njit, prange
 from microslip import _jit_cache  # noqa: F401  (registers the cache before any @njit)
 from microslip.integrators import normal_tape as nt
 from microslip.integrators import periodic_tape
-from microslip.integrators.lane_parking import starts_as_before
+from microslip.integrators.lane_parking import after_periods, starts_as_before
 from microslip.integrators.rigid_lane_law import free_piece, lane_piece
 from microslip.integrators.shared_lanes import (
     DIRECTION,
@@ -106,10 +106,10 @@ def _kernel():
         j = int(book[B_ROW, i])
         for r in range(rows[g] + 1):  # the pass past the last row: a parked lane unparks
             if period > 0 and j == repeated and book[B_AT, i] != 0.0:  # the tail starts
-                left = repeats[g] - book[B_AT, i]
-                x += left * book[B_DX, i]
-                n_switches += int(left * book[B_DSWITCHES, i])
-                n_flagged += int(left * book[B_DFLAGGED, i])
+                x, n_switches, n_flagged = after_periods(
+                    repeats[g] - book[B_AT, i], x, n_switches, n_flagged, book[B_DX, i],
+                    book[B_DSWITCHES, i], book[B_DFLAGGED, i],
+                )  # fmt: skip
                 book[B_AT, i] = 0.0
             if r == rows[g]:
                 break
