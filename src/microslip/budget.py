@@ -24,12 +24,12 @@ from __future__ import annotations
 import math
 import os
 from dataclasses import dataclass
-from pathlib import Path
 from typing import Any
 
 import numpy as np
 
 from microslip import validation
+from microslip.machine import available_memory
 from microslip.model.parameters import Parameters
 from microslip.validation import DEFAULT_RK4_STEPS_PER_PERIOD
 
@@ -139,41 +139,6 @@ class Estimate:
     unit: str
     seconds: float
     bytes: float
-
-
-def _meminfo_available() -> float | None:
-    try:
-        text = Path("/proc/meminfo").read_text()
-    except OSError:
-        return None
-    for line in text.splitlines():
-        if line.startswith("MemAvailable:"):
-            return float(line.split()[1]) * 1024.0
-    return None
-
-
-def _cgroup_available() -> float | None:
-    """Room left under a cgroup v2 memory limit, if one is set."""
-    try:
-        limit = Path("/sys/fs/cgroup/memory.max").read_text().strip()
-        if limit == "max":
-            return None
-        used = Path("/sys/fs/cgroup/memory.current").read_text().strip()
-        return max(float(limit) - float(used), 0.0)
-    except (OSError, ValueError):
-        return None
-
-
-def available_memory() -> float:
-    """Memory available to a new job now [bytes] (see the module docstring)."""
-    available = _meminfo_available()
-    if available is None:
-        try:
-            available = float(os.sysconf("SC_AVPHYS_PAGES") * os.sysconf("SC_PAGE_SIZE"))
-        except (ValueError, OSError, AttributeError):
-            available = float(os.sysconf("SC_PHYS_PAGES") * os.sysconf("SC_PAGE_SIZE"))
-    cgroup = _cgroup_available()
-    return min(available, cgroup) if cgroup is not None else available
 
 
 def _duration_text(seconds: float) -> str:
