@@ -28,14 +28,13 @@ Why it cannot silently hand back wrong numbers:
   again. The store is created under a temporary name and renamed into place, so a store
   either exists whole or not at all.
 
-``exclusive_lock`` keeps two processes off one store (``StoreBusyError`` at once), and
-``remove_store`` deletes a directory only if it is such a store and holds nothing else.
+``exclusive_lock`` (:mod:`microslip.sweeps.store_lock`) keeps two processes off one store
+(``StoreBusyError`` at once), and ``remove_store`` deletes a directory only if it is such
+a store and holds nothing else.
 """
 
 from __future__ import annotations
 
-import contextlib
-import fcntl
 import glob
 import hashlib
 import json
@@ -44,13 +43,15 @@ import re
 import shutil
 import uuid
 import warnings
-from collections.abc import Iterator
 from pathlib import Path
 from typing import TYPE_CHECKING
 
 import numpy as np
 
 from microslip.sweeps.spec import ChunkKey, SweepSpec
+from microslip.sweeps.store_lock import StoreBusyError as StoreBusyError
+from microslip.sweeps.store_lock import exclusive_lock
+from microslip.sweeps.store_lock import lock_path_of as lock_path_of
 
 if TYPE_CHECKING:
     import zarr
@@ -68,10 +69,6 @@ _TMP = re.compile(r".*\.[0-9a-f]{32}\.(partial|tmp)$")  # Zarr's and our tempora
 
 class StoreMismatchError(ValueError):
     """The store on disk belongs to a different sweep, or is not a microslip sweep store."""
-
-
-class StoreBusyError(ValueError):
-    """Another process is using the store (its lock is held)."""
 
 
 # -- durability helpers ---------------------------------------------------------------------
@@ -93,58 +90,6 @@ def _fsync_tree(root: Path) -> None:
 
 def _digest(fields: dict) -> str:
     return hashlib.sha256(json.dumps(fields, sort_keys=True).encode()).hexdigest()
-
-
-# -- lock -------------------------------------------------------------------------------------
-def lock_path_of(path: str | Path) -> Path:
-    """The sidecar lock file of ``path``: ``<path>.lock``."""
-    path = Path(path)
-    return path.with_name(path.name + ".lock")
-
-
-@contextlib.contextmanager
-def exclusive_lock(path: str | Path) -> Iterator[Path]:
-    """Hold a non-blocking exclusive ``flock`` on ``<path>.lock`` for the ``with`` block.
-
-    The lock file is created if needed and removed on exit. Raises ``StoreBusyError``
-    at once if another process (or another ``exclusive_lock`` on the same path in this
-    process: the lock is not re-entrant) holds it. The kernel drops the lock when its
-    holder dies, so a killed run never leaves a store locked.
-    """
-    lock_path = lock_path_of(path)
-    while True:
-        try:
-            fd = os.open(lock_path, os.O_RDWR | os.O_CREAT, 0o644)
-        except OSError as error:
-            raise ValueError(f"cannot create lock file {lock_path}: {error.strerror}") from None
-        try:
-            fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
-        except BlockingIOError:
-            os.close(fd)
-            raise StoreBusyError(
-                f"another microslip run is using {path} (lock {lock_path} is held); "
-                "wait for it to finish or choose another output"
-            ) from None
-        except OSError as error:
-            os.close(fd)
-            raise ValueError(f"cannot lock {lock_path}: {error.strerror}") from None
-        # The previous holder may have removed the file between our open and our flock:
-        # we would then hold a lock on an orphan while a third process locks the new file.
-        try:
-            on_disk = os.stat(lock_path)
-            mine = os.fstat(fd)
-            if (on_disk.st_dev, on_disk.st_ino) == (mine.st_dev, mine.st_ino):
-                break
-        except FileNotFoundError:
-            pass
-        os.close(fd)
-    try:
-        yield lock_path
-    finally:
-        # Removed while still held, so nobody can lock this file after we let it go.
-        with contextlib.suppress(FileNotFoundError):
-            lock_path.unlink()
-        os.close(fd)
 
 
 # -- identification and removal -----------------------------------------------------------------
