@@ -229,8 +229,7 @@ class SourceTreeLocator(caching._CacheLocator):
     def __init__(self, py_func, py_file: str) -> None:
         self._py_file = py_file
         self._lineno = py_func.__code__.co_firstlineno
-        subdir = Path(py_file).resolve().parent.relative_to(PACKAGE_DIR)
-        self._cache_path = str(cache_dir() / subdir)
+        self._cache_path = str(cache_dir() / _package_subdir(py_file))
 
     def get_cache_path(self) -> str:
         return self._cache_path
@@ -238,18 +237,18 @@ class SourceTreeLocator(caching._CacheLocator):
     def get_source_stamp(self) -> str:
         # The directory is already keyed on the sources; the stamp adds the function's own
         # file, for a module that compiles code without importing numba itself.
-        return self._cache_path + ":" + hashlib.sha256(Path(self._py_file).read_bytes()).hexdigest()
+        return self._cache_path + ":" + _file_digest(self._py_file)
 
     def get_disambiguator(self) -> str:
         return str(self._lineno)
 
     @classmethod
     def from_function(cls, py_func, py_file: str) -> SourceTreeLocator | None:
-        try:
-            Path(py_file).resolve().relative_to(PACKAGE_DIR)
-        except (OSError, ValueError):
+        if _package_subdir(py_file) is None:
             return None
         locator = cls(py_func, py_file)
+        if locator._cache_path in _usable_paths:
+            return locator
         try:
             locator.ensure_cache_path()
         except OSError:
@@ -257,7 +256,29 @@ class SourceTreeLocator(caching._CacheLocator):
             subdir = Path(locator._cache_path).relative_to(cache_dir())
             locator._cache_path = str(_private_dir("cache directory not writable") / subdir)
             locator.ensure_cache_path()
+        _usable_paths.add(locator._cache_path)
         return locator
+
+
+# Per process, once per source file or cache directory rather than once per compiled
+# function (~180 at import): resolving paths, hashing a file and probing a directory with
+# a temporary file were ~0.07 s of every start.
+_usable_paths: set[str] = set()  # cache directories created and found writable
+
+
+@functools.cache
+def _package_subdir(py_file: str) -> Path | None:
+    """The directory of ``py_file`` relative to the package, None outside it."""
+    try:
+        return Path(py_file).resolve().parent.relative_to(PACKAGE_DIR)
+    except (OSError, ValueError):
+        return None
+
+
+@functools.cache
+def _file_digest(py_file: str) -> str:
+    """SHA-256 of the file's bytes (read once per process)."""
+    return hashlib.sha256(Path(py_file).read_bytes()).hexdigest()
 
 
 def _register() -> None:
