@@ -127,7 +127,7 @@ def _edges(crit):
     return 5, (0.0, tau1, tau2, tau3, 1.0)
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _first_below(a, crit, tau_a, level):
     """First τ in [τ_a, 1] with P(τ) < level (the returned τ satisfies it), or 2."""
     n_edges, edges = _edges(crit)
@@ -145,7 +145,7 @@ def _first_below(a, crit, tau_a, level):
     return 2.0
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _first_stop(a, crit, h, tau_a, v_a, s, fm, km, level):
     """First τ in (τ_a, 1] where the speed s·ẋ falls to 0 (the returned τ has s·ẋ <= 0),
     or 2. ``level`` = s F/μ_k: the acceleration changes sign where P crosses it."""
