@@ -34,7 +34,7 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from numba import njit, prange
+from numba import njit
 
 from microslip import _jit_cache  # noqa: F401  (registers the cache before any @njit)
 from microslip.analysis.normal_pieces import (
@@ -56,6 +56,7 @@ from microslip.analysis.normal_pieces import (
     normal_at,
     piece_integrals,
 )
+from microslip.integrators import threads
 
 __all__ = ["R_COLUMNS", "R_ERROR", "R_FORCE", "R_PERIODS", "R_STICK", "steady_friction"]
 
@@ -299,18 +300,27 @@ def _steady(law, pieces, src, period, max_periods, tol_f, tol_s, out):
     out[R_ERROR] = abs(late - mean) / abs(mean) if mean != 0.0 else np.inf
 
 
-@njit(cache=True, parallel=True)
 def steady_friction(speeds, mu_s, mu_k, kconst, lam, pieces, src, period, max_periods, out):
     """The steady <f> [N] at each drive speed |v| > 0 [m/s] (rows of ``out``, R_*).
 
     ``kconst`` > 0: constant k_t [N/m]; else k_t = ``lam`` K(δ) (Mindlin). ``pieces``
-    from :func:`build_pieces` on the same ``src``; ``period`` T [s].
+    from :func:`build_pieces` on the same ``src``; ``period`` T [s]. Each speed is
+    walked on its own, so its bits do not depend on the others or on the threads
+    (:func:`~microslip.integrators.threads.run_ranges`).
     """
-    n_max = rate_scale = 0.0
-    for i in range(pieces.shape[0]):
-        n_max = max(n_max, pieces[i, N_A], pieces[i, N_B])
-        rate_scale = max(rate_scale, abs(pieces[i, RATE_A]), abs(pieces[i, RATE_B]))
+    n_max = float(np.max(pieces[:, [N_A, N_B]], initial=0.0))
+    rate_scale = float(np.max(np.abs(pieces[:, [RATE_A, RATE_B]]), initial=0.0))
     tol_f, tol_s = _TOL * mu_s * n_max, _TOL * mu_k * rate_scale
-    for i in prange(speeds.shape[0]):  # each speed on its own: bit-identical in any split
+    threads.run_ranges(
+        _steady_rows, speeds.shape[0], speeds, mu_s, mu_k, kconst, lam, pieces, src, period,
+        max_periods, tol_f, tol_s, out,
+    )  # fmt: skip
+
+
+@njit(cache=True, nogil=True)
+def _steady_rows(lo, hi, speeds, mu_s, mu_k, kconst, lam, pieces, src, period, max_periods,
+                 tol_f, tol_s, out):  # fmt: skip
+    """Rows [lo, hi) of :func:`steady_friction`."""
+    for i in range(lo, hi):
         law = (speeds[i], mu_s, mu_k, kconst, lam)
         _steady(law, pieces, src, period, max_periods, tol_f, tol_s, out[i])

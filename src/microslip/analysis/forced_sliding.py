@@ -35,9 +35,10 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
-from numba import njit, prange
+from numba import njit
 
 from microslip import _jit_cache  # noqa: F401  (registers the cache before any @njit)
+from microslip.integrators import threads
 
 __all__ = ["SAMPLES", "SlidingTable", "mean_velocities", "sliding_table", "slip_intervals"]
 
@@ -267,11 +268,14 @@ def _walk(force, mu, tn, yn, vn, a0, a1, scalars, samples, ts, qs, ns, t_star, f
     return total, count
 
 
-@njit(cache=True, parallel=True)
-def _mean_velocities(forces, mu, tn, yn, vn, a0, a1, scalars, samples, ts, qs, ns, ts_star, out):
+@njit(cache=True, nogil=True)
+def _mean_velocities(lo, hi, forces, mu, tn, yn, vn, a0, a1, scalars, samples, ts, qs, ns,
+                     ts_star, out):  # fmt: skip
+    """out[i] for forces [lo, hi) (:func:`mean_velocities`; a range of
+    :func:`~microslip.integrators.threads.run_ranges`)."""
     period, g, mass = scalars[0], scalars[1], scalars[2]
     n_min = ns.min()
-    for i in prange(forces.shape[0]):
+    for i in range(lo, hi):
         force = forces[i]
         if force > mu * mass * g:
             out[i] = math.inf
@@ -372,9 +376,9 @@ def mean_velocities(table: SlidingTable, mu: float, forces: np.ndarray) -> np.nd
     """
     forces = np.ascontiguousarray(forces, dtype=float)
     out = np.empty(forces.shape[0])
-    _mean_velocities(
-        forces, float(mu), *table._args(), table.samples, table.ts, table.qs, table.ns,
-        table.start, out,
+    threads.run_ranges(
+        _mean_velocities, forces.shape[0], forces, float(mu), *table._args(), table.samples,
+        table.ts, table.qs, table.ns, table.start, out,
     )  # fmt: skip
     return out
 

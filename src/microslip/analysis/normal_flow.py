@@ -30,9 +30,10 @@ g = δ is [[1, 0], [(ÿ⁺ - ÿ⁻)/δ̇, 1]]; the elastic law and Hunt–Crossl
 from __future__ import annotations
 
 import numpy as np
-from numba import njit, prange
+from numba import njit
 
 from microslip import _jit_cache  # noqa: F401  (registers the cache before any @njit)
+from microslip.integrators import threads
 from microslip.integrators.dop853_tableau import N_STAGES
 from microslip.integrators.dop853_tableau import A as _A
 from microslip.integrators.dop853_tableau import B as _B
@@ -344,15 +345,24 @@ def propagate(c, y_start, yd_start, t0, duration, n_steps, record, variational):
     return state, phi, nodes[:, :1].copy(), accel[:, :0].copy(), summary
 
 
-@njit(cache=True, parallel=True)
 def propagate_each(cs, starts, durations, n_steps, record, ends, phis, summaries, variational):
     """:func:`propagate` from t0 = 0 for each row i, in parallel: coefficients cs[i],
     state starts[i] = (y [m], ẏ [m/s]), durations[i] [s]; fills ends[i] (2,), phis[i]
     (2, 2; NaN unless ``variational``, a NumPy bool) and summaries[i] (S_SIZE,). Each row
     is integrated on its own, so its bits do not depend on the other rows or the thread
-    count.
+    count (:func:`~microslip.integrators.threads.run_ranges`).
     """
-    for i in prange(cs.shape[0]):
+    threads.run_ranges(
+        _propagate_rows, cs.shape[0], cs, starts, durations, n_steps, record, ends, phis,
+        summaries, variational,
+    )  # fmt: skip
+
+
+@njit(cache=True, nogil=True)
+def _propagate_rows(lo, hi, cs, starts, durations, n_steps, record, ends, phis, summaries,
+                    variational):  # fmt: skip
+    """Rows [lo, hi) of :func:`propagate_each`."""
+    for i in range(lo, hi):
         end, phi, _nodes, _accel, summary = propagate(
             cs[i], starts[i, 0], starts[i, 1], 0.0, durations[i], n_steps, record, variational
         )

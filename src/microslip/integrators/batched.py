@@ -21,8 +21,8 @@ laws (:mod:`microslip.model.system`). No law is implemented twice.
 The flag tests are conservative supersets of what
 :func:`~microslip.integrators.switching.first_switch` detects, so an unflagged step is
 one in which the core kernel would have found no switch either, and its state is the
-same. Blocks run in parallel over the cores (``prange``). Lanes are padded to whole
-blocks with copies of the last lane.
+same. Blocks run in parallel over the cores (:mod:`~microslip.integrators.threads`).
+Lanes are padded to whole blocks with copies of the last lane.
 
 Bit-for-bit reproducibility. The vector loop is compiled *without* fastmath: no FMA
 contraction, no reassociation. A division by m becomes a multiplication by 1/m only
@@ -63,10 +63,11 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
-from numba import njit, parallel_chunksize, prange
+from numba import njit
 
 from microslip import _jit_cache  # noqa: F401  (registers the cache before any @njit)
 from microslip.integrators import paper_pass as pp
+from microslip.integrators import threads
 from microslip.integrators.kernel import MAX_SWITCHES_PER_STEP, as_tuple, copy_state, piece_end
 from microslip.integrators.methods import RK4, WORK_ROWS
 from microslip.integrators.steppers import rk4_step
@@ -144,11 +145,12 @@ def _scalar_step(s, mode, t, target, c, s1, have_s1, piece, trial, extremum, wor
     return mode, t, switches, False
 
 
-@njit(cache=True, parallel=True)
-def _run_blocks(coeffs, states, directions, times, switches, flagged, status, grid, block):
-    """Integrate every block of ``block`` lanes over ``grid`` (in place, rows = lanes)."""
-    n_blocks = states.shape[0] // block
-    for b in prange(n_blocks):
+@njit(cache=True, nogil=True)
+def _run_blocks(b_lo, b_hi, coeffs, states, directions, times, switches, flagged, status, grid,
+                block):  # fmt: skip
+    """Integrate blocks [b_lo, b_hi) of ``block`` lanes over ``grid`` (in place, rows =
+    lanes; a range of :func:`threads.run_ranges`)."""
+    for b in range(b_lo, b_hi):
         lo = b * block
         # A block-local copy: row views of it touch no memory shared between threads
         # (a shared array's reference count would bounce between the cores).
@@ -332,8 +334,10 @@ def simulate_batch(
     switches = np.empty(n_pad, dtype=np.int64)
     flagged = np.empty(n_pad, dtype=np.int64)
     status = np.empty(n_pad, dtype=np.int64)
-    with parallel_chunksize(1):
-        _run_blocks(lane_coeffs, states, directions, times, switches, flagged, status, grid, block)
+    threads.run_ranges(
+        _run_blocks, n_pad // block, lane_coeffs, states, directions, times, switches, flagged,
+        status, grid, block, per_task=1,
+    )  # fmt: skip
     states, directions, times = states[:n], directions[:n], times[:n]
     switches, flagged, status = switches[:n], flagged[:n], status[:n]
     stalled = np.flatnonzero(status == LANE_STALLED)

@@ -14,9 +14,10 @@ switch may lie inside the piece; a flagged lane is redone alone
 Every lane's arithmetic depends only on its own parameters and its group's tape, and the
 vector loop is compiled without fastmath (no FMA contraction): a lane's result is
 bit-identical whatever the other lanes, their number, their order or the threads.
-Groups (normal set-ups) run in parallel over the cores (``prange``). On a periodic
-normal motion's repeated tape a lane that starts a period as it started the last one
-takes its remaining periods at once (:func:`_run_cycle`).
+Groups (normal set-ups) run in parallel over the cores
+(:mod:`~microslip.integrators.threads`). On a periodic normal motion's repeated tape a
+lane that starts a period as it started the last one takes its remaining periods at
+once (:func:`_run_cycle`).
 """
 
 from __future__ import annotations
@@ -24,12 +25,12 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from numba import njit, parallel_chunksize, prange
+from numba import njit
 
 from microslip import _jit_cache  # noqa: F401  (registers the cache before any @njit)
 from microslip.integrators import lane_parking as parking
 from microslip.integrators import normal_tape as nt
-from microslip.integrators import periodic_tape
+from microslip.integrators import periodic_tape, threads
 from microslip.integrators.rigid_lane_law import free_piece, lane_piece
 from microslip.model.coefficients import MASS
 from microslip.model.normal import normal_force
@@ -214,10 +215,11 @@ def _run_cycle(cycle, shape, lanes, switches, flagged, n_active, park):
     )[0]  # fmt: skip
 
 
-@njit(cache=True, parallel=True)
-def _run_groups(normal_c, y0, ydot0, cycles, offsets, shapes, starts, lanes, switches, flagged,
-                status, t_end, dt, park):  # fmt: skip
-    for g in prange(normal_c.shape[0]):
+@njit(cache=True, nogil=True)
+def _run_groups(g_lo, g_hi, normal_c, y0, ydot0, cycles, offsets, shapes, starts, lanes,
+                switches, flagged, status, t_end, dt, park):  # fmt: skip
+    """Set-ups [g_lo, g_hi) and their lanes, in place (a range of :func:`threads.run_ranges`)."""
+    for g in range(g_lo, g_hi):
         lo, hi = starts[g], starts[g + 1]
         group_lanes = np.ascontiguousarray(lanes[:, lo:hi])
         group_switches = np.zeros(hi - lo, dtype=np.int64)
@@ -265,11 +267,11 @@ def run_shared(normal_coeffs, normal_states0, group_of_lane, forces, mu_static, 
     flagged = np.zeros(n_lanes, dtype=np.int64)
     status = np.zeros(normal_coeffs.shape[0], dtype=np.int64)
     cycles = periodic_tape.cycles(normal_coeffs, normal_states0, periods, t_end, dt)
-    with parallel_chunksize(1):
-        _run_groups(
-            normal_coeffs, normal_states0[:, 0].copy(), normal_states0[:, 1].copy(), *cycles,
-            starts, lanes, switches, flagged, status, float(t_end), float(dt), bool(park),
-        )  # fmt: skip
+    threads.run_ranges(
+        _run_groups, normal_coeffs.shape[0], normal_coeffs, normal_states0[:, 0].copy(),
+        normal_states0[:, 1].copy(), *cycles, starts, lanes, switches, flagged, status,
+        float(t_end), float(dt), bool(park), per_task=1,
+    )  # fmt: skip
     raise_on_failure(status, "shared-normal kernel")
     return unpack_lanes(lanes, order, switches, flagged)
 

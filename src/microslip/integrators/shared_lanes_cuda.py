@@ -26,11 +26,11 @@ from __future__ import annotations
 import functools
 
 import numpy as np
-from numba import njit, prange
+from numba import njit
 
 from microslip import _jit_cache  # noqa: F401  (registers the cache before any @njit)
 from microslip.integrators import normal_tape as nt
-from microslip.integrators import periodic_tape
+from microslip.integrators import periodic_tape, threads
 from microslip.integrators.lane_parking import after_periods, starts_as_before
 from microslip.integrators.rigid_lane_law import free_piece, lane_piece
 from microslip.integrators.shared_lanes import (
@@ -162,7 +162,6 @@ def _kernel():
     return lanes_kernel
 
 
-@njit(cache=True, parallel=True)
 def _fill_tapes(normal_c, carries, works, tapes, rows, status, t_end, dt, cycles, offsets,
                 shapes):  # fmt: skip
     """The next block of every set-up's tape, in parallel over the set-ups: ``status``
@@ -170,7 +169,17 @@ def _fill_tapes(normal_c, carries, works, tapes, rows, status, t_end, dt, cycles
     ``offsets``, ``shapes``: the set-ups' periodic cycles
     (:func:`~microslip.integrators.periodic_tape.cycles`); without one (period rows 0)
     a tape is filled step by step."""
-    for g in prange(normal_c.shape[0]):
+    threads.run_ranges(
+        _fill_range, normal_c.shape[0], normal_c, carries, works, tapes, rows, status, t_end,
+        dt, cycles, offsets, shapes, per_task=1,
+    )  # fmt: skip
+
+
+@njit(cache=True, nogil=True)
+def _fill_range(g_lo, g_hi, normal_c, carries, works, tapes, rows, status, t_end, dt, cycles,
+                offsets, shapes):  # fmt: skip
+    """Set-ups [g_lo, g_hi) of :func:`_fill_tapes`."""
+    for g in range(g_lo, g_hi):
         if status[g] != 1:
             rows[g] = 0
             continue

@@ -17,7 +17,7 @@ free of switches, or that lands on it, is redone alone by
 A lane's arithmetic depends only on its own parameters and its group's tape (no
 fastmath): its result is the same bits whatever the other lanes, their number, their
 order or the threads. Groups (normal set-ups) run in parallel over the cores
-(``prange``).
+(:mod:`~microslip.integrators.threads`).
 """
 
 from __future__ import annotations
@@ -25,11 +25,11 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from numba import njit, parallel_chunksize, prange
+from numba import njit
 
 from microslip import _jit_cache  # noqa: F401  (registers the cache before any @njit)
 from microslip.integrators import normal_tape as nt
-from microslip.integrators import periodic_tape
+from microslip.integrators import periodic_tape, threads
 from microslip.integrators.shared_lanes import LANE_STALLED, OK, raise_on_failure
 from microslip.integrators.spring_lane_law import (
     FLIGHT,
@@ -219,10 +219,11 @@ def _run_group(c, y0, ydot0, k_t, cycle, shape, t_end, dt, lanes, switches, flag
             return OK
 
 
-@njit(cache=True, parallel=True)
-def _run_groups(normal_c, y0, ydot0, stiffness, cycles, offsets, shapes, starts, lanes, switches,
-                flagged, status, t_end, dt):  # fmt: skip
-    for g in prange(normal_c.shape[0]):
+@njit(cache=True, nogil=True)
+def _run_groups(g_lo, g_hi, normal_c, y0, ydot0, stiffness, cycles, offsets, shapes, starts, lanes,
+                switches, flagged, status, t_end, dt):  # fmt: skip
+    """Set-ups [g_lo, g_hi) and their lanes, in place (a range of :func:`threads.run_ranges`)."""
+    for g in range(g_lo, g_hi):
         lo, hi = starts[g], starts[g + 1]
         group_lanes = np.ascontiguousarray(lanes[:, lo:hi])
         group_switches = np.zeros(hi - lo, dtype=np.int64)
@@ -269,11 +270,10 @@ def run_spring_lanes(normal_coeffs, normal_states0, stiffness, group_of_lane, fo
     flagged = np.zeros(n_lanes, dtype=np.int64)
     status = np.zeros(n_groups, dtype=np.int64)
     cycles = periodic_tape.cycles(normal_coeffs, states0, periods, t_end, dt)
-    with parallel_chunksize(1):
-        _run_groups(
-            normal_coeffs, states0[:, 0].copy(), states0[:, 1].copy(), stiffness, *cycles, starts,
-            lanes, switches, flagged, status, float(t_end), float(dt),
-        )  # fmt: skip
+    threads.run_ranges(
+        _run_groups, n_groups, normal_coeffs, states0[:, 0].copy(), states0[:, 1].copy(), stiffness,
+        *cycles, starts, lanes, switches, flagged, status, float(t_end), float(dt), per_task=1,
+    )  # fmt: skip
     raise_on_failure(status, "spring-lane kernel")
     return lanes[X], lanes[V], lanes[FS], lanes[MODE], switches, flagged
 
