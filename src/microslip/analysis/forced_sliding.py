@@ -271,8 +271,7 @@ def _walk(force, mu, tn, yn, vn, a0, a1, scalars, samples, ts, qs, ns, t_star, f
 @njit(cache=True, nogil=True)
 def _mean_velocities(lo, hi, forces, mu, tn, yn, vn, a0, a1, scalars, samples, ts, qs, ns,
                      ts_star, out):  # fmt: skip
-    """out[i] for forces [lo, hi) (:func:`mean_velocities`; a range of
-    :func:`~microslip.integrators.threads.run_ranges`)."""
+    """out[i] for forces [lo, hi) of :func:`mean_velocities` (a range of threads.run_ranges)."""
     period, g, mass = scalars[0], scalars[1], scalars[2]
     n_min = ns.min()
     for i in range(lo, hi):
