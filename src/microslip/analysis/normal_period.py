@@ -10,7 +10,6 @@ import math
 from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass
 
-import numba
 import numpy as np
 from numba import njit
 
@@ -23,6 +22,7 @@ from microslip.analysis.normal_pieces import (
     TABLE,
     build_pieces,
 )
+from microslip.integrators.threads import thread_count
 from microslip.model.composition import Model
 from microslip.model.excitation import BaseMotion, HarmonicForce, PrescribedPenetration
 from microslip.model.normal import normal_acceleration, normal_force
@@ -177,7 +177,7 @@ def normal_cycles(points: list[tuple[Model, float | None]]) -> dict:
         except NotPeriodOneError as error:
             return error
 
-    threads = min(numba.get_num_threads(), len(keys))
+    threads = min(thread_count(), len(keys))
     if threads <= 1:
         return {key: one(key) for key in keys}
     with ThreadPoolExecutor(threads) as pool:
