@@ -6,7 +6,9 @@ Runs only where numba's CUDA target finds a GPU (otherwise it says why and exits
 Each job runs the same lanes through :func:`~microslip.integrators.shared_lanes.run_shared`
 (every CPU core) and :func:`~microslip.integrators.shared_lanes_cuda.run_shared_cuda`
 (tapes on the CPU cores, lanes on the GPU) on the same machine (for a TangentialSpring
-or a MindlinSpring their spring- or Mindlin-lane counterparts), warm (compile times
+or a MindlinSpring their spring- or Mindlin-lane counterparts), with the periods the
+sweep passes (a free vibration's tape is one period repeated, and repeating lanes park;
+``--stepped`` adds the paper map on the stepped tape), warm (compile times
 reported apart), best of three; and reports the GPU path's run time with the lanes
 skipped (the tapes alone: the CPU's share), the two paths' largest difference and,
 for the 256-force paper and Mindlin maps, the error against the event method at rtol
@@ -26,6 +28,7 @@ from pathlib import Path
 import numpy as np
 
 import microslip as ms
+from microslip.analysis.free_vibration import free_period
 from microslip.integrators import shared_lanes_cuda as slc
 from microslip.integrators.mindlin_lanes import run_mindlin_lanes
 from microslip.integrators.mindlin_lanes_cuda import run_mindlin_lanes_cuda
@@ -50,13 +53,21 @@ def best_time(function, *args, repeats=3):
 
 
 def free_lanes(n_forces, n_amplitudes):
-    """The paper map's lanes: F in [0.05, 0.95] N x A in [0, 3e-7] m, from rest at the top."""
+    """The paper map's lanes: F in [0.05, 0.95] N x A in [0, 3e-7] m, from rest at the top,
+    with each set-up's period T(A) [s] (0 at A = 0, as the sweep passes them)."""
     forces = np.linspace(0.05, 0.95, n_forces)
     amplitudes = np.linspace(0.0, 3e-7, n_amplitudes)
     c = normal_coefficients(ms.Model(PARAMS).pack(0.0))
     coeffs = np.repeat(c[None], n_amplitudes, axis=0)
     normal0 = np.array([initial_state_from_amplitude(PARAMS, a)[:2] for a in amplitudes])
-    return coeffs, normal0, forces, amplitudes, T0 / 200
+    periods = np.array([free_period(PARAMS, a) if a > 0 else 0.0 for a in amplitudes])
+    return coeffs, normal0, forces, amplitudes, T0 / 200, periods
+
+
+def stepped_lanes(n_forces, n_amplitudes):
+    """:func:`free_lanes` on the stepped tape (no periods: every step integrated)."""
+    *lanes, periods = free_lanes(n_forces, n_amplitudes)
+    return (*lanes, np.zeros_like(periods))
 
 
 def forced_lanes(n_forces, n_amplitudes):
@@ -72,25 +83,25 @@ def forced_lanes(n_forces, n_amplitudes):
     )
     normal0 = np.tile([PARAMS.static_deflection, 0.0], (n_amplitudes, 1))
     dt = min(T0, 1.0 / 1400.0) / 200
-    return coeffs, normal0, forces, amplitudes, dt
+    return coeffs, normal0, forces, amplitudes, dt, np.zeros(n_amplitudes)
 
 
 def spring_lanes(n_forces, n_amplitudes):
     """The paper map's set-ups on TangentialSpring(K_n), dt = 1/200 of the shorter of T0
     and the body's tangential period (the sweep's default)."""
-    coeffs, normal0, forces, amplitudes, _ = free_lanes(n_forces, n_amplitudes)
+    coeffs, normal0, forces, amplitudes, _, periods = free_lanes(n_forces, n_amplitudes)
     k_t = PARAMS.contact_stiffness
     dt = min(T0, 2.0 * np.pi * np.sqrt(PARAMS.mass / k_t)) / 200
-    return coeffs, normal0, forces, amplitudes, dt, np.full(n_amplitudes, k_t)
+    return coeffs, normal0, forces, amplitudes, dt, periods, np.full(n_amplitudes, k_t)
 
 
 def mindlin_lanes(n_forces, n_amplitudes):
     """The paper map's set-ups on MindlinSpring(0.8235), dt = 1/200 of the shorter of T0
     and the body's tangential period at rest (k_t = λ K_n, the sweep's default)."""
-    coeffs, normal0, forces, amplitudes, _ = free_lanes(n_forces, n_amplitudes)
+    coeffs, normal0, forces, amplitudes, _, periods = free_lanes(n_forces, n_amplitudes)
     k_t = MINDLIN_RATIO * PARAMS.contact_stiffness
     dt = min(T0, 2.0 * np.pi * np.sqrt(PARAMS.mass / k_t)) / 200
-    return coeffs, normal0, forces, amplitudes, dt, np.full(n_amplitudes, MINDLIN_RATIO)
+    return coeffs, normal0, forces, amplitudes, dt, periods, np.full(n_amplitudes, MINDLIN_RATIO)
 
 
 # The kernels a job runs on the CPU and the GPU, and the switch counts' column.
@@ -113,13 +124,13 @@ def lane_arrays(coeffs, forces):
 def job(name, setup, n_forces, n_amplitudes, rows, kind="rigid", event_model=None):
     """One row: ``setup``'s lanes on the ``kind`` kernels (KERNELS); with ``event_model``
     (the model of the lanes), the GPU's error against the event method at five points."""
-    coeffs, normal0, forces, amplitudes, dt, *spring = setup(n_forces, n_amplitudes)
+    coeffs, normal0, forces, amplitudes, dt, periods, *spring = setup(n_forces, n_amplitudes)
     groups, lane_forces, mu = lane_arrays(coeffs, forces)
     args = (coeffs, normal0, *spring, groups, lane_forces, mu, mu, DURATION, dt)
     on_cpu, on_gpu, n_switches = KERNELS[kind]
-    cpu, cpu_s = best_time(on_cpu, *args)
-    gpu, gpu_s = best_time(on_gpu, *args)
-    tapes_s = best_time(_tapes_only, coeffs, normal0, DURATION, dt)[1]
+    cpu, cpu_s = best_time(lambda *a: on_cpu(*a, periods=periods), *args)
+    gpu, gpu_s = best_time(lambda *a: on_gpu(*a, periods=periods), *args)
+    tapes_s = best_time(_tapes_only, coeffs, normal0, DURATION, dt, periods)[1]
     steps = DURATION / dt
     lane_steps = lane_forces.size * steps
     v_cpu, v_gpu = cpu[0] / DURATION, gpu[0] / DURATION
@@ -153,18 +164,24 @@ def job(name, setup, n_forces, n_amplitudes, rows, kind="rigid", event_model=Non
     print(json.dumps(row), flush=True)
 
 
-def _tapes_only(coeffs, normal0, t_end, dt):
+def _tapes_only(coeffs, normal0, t_end, dt, periods):
     """The GPU path's CPU share: every block of tapes with one lane per set-up, F = 0
     (it never moves)."""
     n = coeffs.shape[0]
     zeros, mu = np.zeros(n), np.full(n, PARAMS.mu)
-    return slc.run_shared_cuda(coeffs, normal0, np.arange(n), zeros, mu, mu, t_end, dt)
+    return slc.run_shared_cuda(coeffs, normal0, np.arange(n), zeros, mu, mu, t_end, dt,
+                               periods=periods)  # fmt: skip
 
 
 def main(argv=None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--quick", action="store_true", help="small grids (a smoke run)")
     parser.add_argument("--out", type=Path, default=Path(__file__).parent / "out")
+    parser.add_argument(
+        "--stepped",
+        action="store_true",
+        help="also the paper map on the stepped tape (no periods, no parking)",
+    )
     args = parser.parse_args(argv)
     reason = slc.cuda_unavailable()
     if reason is not None:
@@ -200,6 +217,8 @@ def main(argv=None) -> int:
     for n_forces, n_amplitudes in sizes:
         event_model = ms.Model(PARAMS) if n_forces == 256 else None
         job("paper", free_lanes, n_forces, n_amplitudes, rows, event_model=event_model)
+        if args.stepped:
+            job("paper, stepped tape", stepped_lanes, n_forces, n_amplitudes, rows)
     job("Viscous(0.05)+HarmonicForce", forced_lanes, 256, 16 if args.quick else 64, rows)
     mindlin = ms.Model(PARAMS, tangential=ms.MindlinSpring(MINDLIN_RATIO))
     for n_forces, n_amplitudes in [(64, 16)] if args.quick else [(256, 64), (1024, 256)]:

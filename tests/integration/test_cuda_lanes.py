@@ -103,6 +103,17 @@ SIMULATED = textwrap.dedent(
     moving = np.abs(cpu[0]) > 0
     assert cpu[3].sum() > 15 and moving.sum() > 10, (cpu[3].sum(), moving.sum())
     print("same bits", int(cpu[3].sum()), "switches")
+    # The next run of that shape reuses the page-locked blocks, stale rows and all: a
+    # run on other set-ups (the normal motions reversed) still gets the CPU's bits.
+    from microslip.integrators import shared_lanes_cuda as slc
+    assert len(slc._PINNED) == 1
+    kept = next(iter(slc._PINNED.values()))[0][0]  # the first page-locked block
+    other = (args[0][::-1].copy(), args[1][::-1].copy(), *args[2:])
+    cpu = run_shared(*other)
+    gpu = run_shared_cuda(*other, tape_rows=24)
+    assert next(iter(slc._PINNED.values()))[0][0] is kept
+    for name, a, b in zip(("x", "v", "mode", "switches", "flagged"), cpu, gpu):
+        assert np.array_equal(a, b), ("reused blocks", name, a, b)
     # Free set-ups on a repeated tape (~4 periods): lanes that repeat a period park and
     # take the rest at once on both, with the same bits (shared_lanes._run_cycle).
     import microslip as ms
@@ -205,10 +216,15 @@ def test_without_a_gpu_the_cuda_path_refuses_in_one_line(monkeypatch):
 
 
 @pytest.mark.skipif(slc.cuda_unavailable() is not None, reason="needs a CUDA GPU")
-def test_gpu_lanes_agree_with_the_cpu_kernel():
+@pytest.mark.parametrize("repeated", [False, True])
+def test_gpu_lanes_agree_with_the_cpu_kernel(repeated):
     args = mixed_lanes(4000)
-    cpu = run_shared(*args)
-    gpu = slc.run_shared_cuda(*args, tape_rows=512)  # eight blocks of tapes
+    periods = None
+    if repeated:  # the free set-ups' tapes are one period, repeated (~20 periods)
+        amplitudes = PARAMS.static_deflection - args[1][:3, 0]
+        periods = [ms.free_period(PARAMS, a) if a > 0.0 else 0.0 for a in amplitudes] + [0.0]
+    cpu = run_shared(*args, periods=periods)
+    gpu = slc.run_shared_cuda(*args, tape_rows=512, periods=periods)  # eight blocks of tapes
     scale = np.abs(cpu[0]).max()
     assert scale > 0
     assert np.abs(gpu[0] - cpu[0]).max() <= 1e-9 * scale

@@ -9,7 +9,11 @@ lane law of :mod:`~microslip.integrators.rigid_lane_law` itself (:func:`free_pie
 a piece without a switch, :func:`lane_piece` through the switches), compiled for the
 GPU from the same functions. While a block is copied and run, the CPU fills the next.
 The lane states stay on the GPU between blocks, so memory is bounded by two blocks of
-tapes whatever the duration.
+tapes whatever the duration. A periodic normal motion's tape is one period's pieces,
+repeated (:mod:`~microslip.integrators.periodic_tape`): those go to the GPU once, and
+its lanes run all their periods in the first launch, a lane that repeats a period
+taking the rest at once (:mod:`~microslip.integrators.lane_parking`'s rule), instead
+of the repeated rows going through the blocks.
 
 Every lane's arithmetic depends only on its own parameters and its set-up's tape, so a
 lane's result does not depend on the other lanes, their number or order. The GPU
@@ -24,6 +28,7 @@ Nothing requires a GPU: :func:`cuda_unavailable` says why none can be used.
 from __future__ import annotations
 
 import functools
+import threading
 
 import numpy as np
 from numba import njit
@@ -61,6 +66,31 @@ THREADS_PER_BLOCK = 128
 TAPE_ROWS = 1024  # pieces per set-up in a block of tapes (fewer for many set-ups)
 TAPE_BLOCK_BYTES = 256 * 2**20  # at most this much tape per block, host and GPU each
 
+# The last run's two page-locked blocks of tapes and row counts, by shape, for the next
+# run of that shape (a sweep's chunks): page-locking them costs about as much as a
+# 256-set-up map's lanes (0.055 s for 2 x 42 MiB on the H100 machine). A run takes them
+# out, so two runs at once never share them; one shape is kept at most.
+_PINNED: dict = {}
+_PINNED_LOCK = threading.Lock()
+
+
+def _take_pinned(shape):
+    """(tapes, rows): two page-locked blocks of ``shape`` and two row counts, reused."""
+    with _PINNED_LOCK:
+        buffers = _PINNED.pop(shape, None)
+    if buffers is None:
+        tapes = [cuda.pinned_array(shape), cuda.pinned_array(shape)]
+        rows = [cuda.pinned_array(shape[0], dtype=np.int64) for _ in range(2)]
+        buffers = (tapes, rows)
+    return buffers
+
+
+def _give_back_pinned(shape, buffers):
+    """Keep ``buffers`` (from :func:`_take_pinned`, no longer in use) for the next run."""
+    with _PINNED_LOCK:
+        _PINNED.clear()
+        _PINNED[shape] = buffers
+
 
 def cuda_unavailable() -> str | None:
     """None when a CUDA GPU (or numba's CUDA simulator) can run the lanes, else why not,
@@ -75,25 +105,39 @@ def cuda_unavailable() -> str | None:
     return "no CUDA GPU is available here (numba.cuda.is_available() is False)"
 
 
-# Rows of a lane's book on the GPU (integrators/lane_parking.py, per thread): the rows of
-# its set-up done so far; the period it parked at (0: live); x, ẋ, mode and the two
-# counts at the last period start; its increments per period once parked.
-B_ROW, B_AT, B_X, B_V, B_MODE, B_SWITCHES, B_FLAGGED, B_DX, B_DSWITCHES, B_DFLAGGED = range(10)
-BOOK_ROWS = 10
-
-
 @functools.cache
 def _kernel():
     """The lane kernel, compiled for the GPU on its first launch."""
 
+    @cuda.jit(device=True)
+    def lane_row(tape, r, fm, km, n_release, n_balance, direction, x, v, mode):
+        # One lane through the piece in row r of ``tape`` (rows x nt.ROW): (x, ẋ, mode,
+        # switches (< 0: stalled), 1 if the piece was flagged else 0).
+        h = tape[r, nt.H]
+        p_min = tape[r, nt.PMIN]
+        p_max = tape[r, nt.PMAX]
+        flag, x1, v1 = free_piece(
+            mode, v, x, fm, km, n_release, n_balance, h, h * tape[r, nt.INT1],
+            h * h * tape[r, nt.KINT1], p_min, p_max,
+        )  # fmt: skip
+        if not flag:
+            return x1, v1, mode, 0, 0
+        a = (tape[r, nt.A0], tape[r, nt.A1], tape[r, nt.A2], tape[r, nt.A3], tape[r, nt.A4])
+        crit = (int(tape[r, nt.NCRIT]), tape[r, nt.CRIT1], tape[r, nt.CRIT2], tape[r, nt.CRIT3])
+        x, v, mode, k = lane_piece(a, crit, h, fm, km, n_release, n_balance, direction, x, v, mode)
+        return x, v, mode, k, 1
+
     @cuda.jit
-    def lanes_kernel(tapes, rows, lane_group, period_rows, repeats, lanes, book, switches,
-                     flagged, stalled):  # fmt: skip
-        # One thread per lane (a column of ``lanes``): through its set-up's pieces. On a
-        # repeated tape (period_rows > 0) a lane that starts a period as it started the
-        # last one parks until the tail, as in the CPU kernel (shared_lanes._run_cycle).
+    def lanes_kernel(tapes, rows, lane_group, cycles, offsets, cycle_shape, lanes, done,
+                     switches, flagged, stalled):  # fmt: skip
+        # One thread per lane (a column of ``lanes``). A set-up with a cycle (period rows
+        # > 0 in cycle_shape: period rows, tail rows, repeats) has no rows in the blocks:
+        # its lanes run all its periods from ``cycles`` in the first launch, and one that
+        # starts a period as it started the last one takes its remaining periods at once,
+        # as in the CPU kernel (shared_lanes._run_cycle). Any other set-up's lanes run
+        # through the block of tapes of each launch.
         i = cuda.grid(1)
-        if i >= lanes.shape[1]:
+        if i >= lanes.shape[1] or done[i] != 0:
             return
         g = lane_group[i]
         fm, km = lanes[FM, i], lanes[KM, i]
@@ -102,62 +146,53 @@ def _kernel():
         x, v, mode = lanes[X, i], lanes[V, i], lanes[MODE, i]
         n_switches = switches[i]
         n_flagged = flagged[i]
-        period, repeated = period_rows[g], period_rows[g] * repeats[g]
-        j = int(book[B_ROW, i])
-        for r in range(rows[g] + 1):  # the pass past the last row: a parked lane unparks
-            if period > 0 and j == repeated and book[B_AT, i] != 0.0:  # the tail starts
-                x, n_switches, n_flagged = after_periods(
-                    repeats[g] - book[B_AT, i], x, n_switches, n_flagged, book[B_DX, i],
-                    book[B_DSWITCHES, i], book[B_DFLAGGED, i],
-                )  # fmt: skip
-                book[B_AT, i] = 0.0
-            if r == rows[g]:
-                break
-            if period > 0 and j < repeated:
-                if book[B_AT, i] != 0.0:  # parked
-                    j += 1
-                    continue
-                if j % period == 0:  # a period starts
-                    if j > 0 and starts_as_before(v, mode, book[B_V, i], book[B_MODE, i]):
-                        book[B_AT, i] = j // period
-                        book[B_DX, i] = x - book[B_X, i]
-                        book[B_DSWITCHES, i] = n_switches - book[B_SWITCHES, i]
-                        book[B_DFLAGGED, i] = n_flagged - book[B_FLAGGED, i]
-                        j += 1
-                        continue
-                    book[B_X, i], book[B_V, i], book[B_MODE, i] = x, v, mode
-                    book[B_SWITCHES, i], book[B_FLAGGED, i] = n_switches, n_flagged
-            j += 1
-            h = tapes[g, r, nt.H]
-            p_min = tapes[g, r, nt.PMIN]
-            p_max = tapes[g, r, nt.PMAX]
-            flag, x1, v1 = free_piece(
-                mode, v, x, fm, km, n_release, n_balance, h, h * tapes[g, r, nt.INT1],
-                h * h * tapes[g, r, nt.KINT1], p_min, p_max,
-            )  # fmt: skip
-            if not flag:
-                x, v = x1, v1
-                continue
-            n_flagged += 1
-            a = (
-                tapes[g, r, nt.A0], tapes[g, r, nt.A1], tapes[g, r, nt.A2], tapes[g, r, nt.A3],
-                tapes[g, r, nt.A4],
-            )  # fmt: skip
-            crit = (
-                int(tapes[g, r, nt.NCRIT]), tapes[g, r, nt.CRIT1], tapes[g, r, nt.CRIT2],
-                tapes[g, r, nt.CRIT3],
-            )  # fmt: skip
-            x, v, mode, k = lane_piece(
-                a, crit, h, fm, km, n_release, n_balance, direction, x, v, mode
-            )
-            if k < 0:
-                stalled[i] = 1
-                break
-            n_switches += k
+        period, tail, repeats = cycle_shape[g, 0], cycle_shape[g, 1], cycle_shape[g, 2]
+        ok = True
+        if period > 0:
+            done[i] = 1
+            cycle = cycles[offsets[g] : offsets[g + 1]]
+            x_mark, v_mark, mode_mark = x, v, mode
+            switches_mark, flagged_mark = n_switches, n_flagged
+            p = 0  # the period about to start; p == repeats: the tail
+            while True:
+                if 0 < p < repeats and starts_as_before(v, mode, v_mark, mode_mark):
+                    # It repeats the last period, bit for bit: the rest at once.
+                    x, n_switches, n_flagged = after_periods(
+                        repeats - p, x, n_switches, n_flagged, x - x_mark,
+                        n_switches - switches_mark, n_flagged - flagged_mark,
+                    )  # fmt: skip
+                    p = repeats
+                x_mark, v_mark, mode_mark = x, v, mode
+                switches_mark, flagged_mark = n_switches, n_flagged
+                lo, hi = (period, period + tail) if p == repeats else (0, period)
+                for r in range(lo, hi):
+                    x, v, mode, k, f = lane_row(
+                        cycle, r, fm, km, n_release, n_balance, direction, x, v, mode
+                    )
+                    n_flagged += f
+                    if k < 0:
+                        ok = False
+                        break
+                    n_switches += k
+                if not ok or p == repeats:
+                    break
+                p += 1
+        else:
+            tape = tapes[g]
+            for r in range(rows[g]):
+                x, v, mode, k, f = lane_row(
+                    tape, r, fm, km, n_release, n_balance, direction, x, v, mode
+                )
+                n_flagged += f
+                if k < 0:
+                    ok = False
+                    break
+                n_switches += k
+        if not ok:
+            stalled[i] = 1
         lanes[X, i], lanes[V, i], lanes[MODE, i] = x, v, mode
         switches[i] = n_switches
         flagged[i] = n_flagged
-        book[B_ROW, i] = j
 
     return lanes_kernel
 
@@ -192,16 +227,19 @@ def _fill_range(g_lo, g_hi, normal_c, carries, works, tapes, rows, status, t_end
 
 
 def run_blocks(kernel, normal_coeffs, normal_states0, n_lanes, t_end, dt, tape_rows, stream,
-               lane_args, periods=None, prepare=None, cycles=None):  # fmt: skip
+               lane_args, periods=None, prepare=None, cycles=None,
+               cycles_on_gpu=False):  # fmt: skip
     """Fill every set-up's tape block by block on the CPU cores and run
     ``kernel[blocks, THREADS_PER_BLOCK, stream](tapes, rows, *lane_args)`` on each block
     (one thread per lane; ``lane_args`` on the GPU, in ``stream``), after
     ``prepare(tapes, rows, stream)`` where given (work per block that the lanes share,
     queued on the same stream). Returns the status per set-up (0, or a normal
-    integration's failure) once the work is queued: the caller's copies back on
-    ``stream`` wait for it. ``periods``: the set-ups' periodic normal motions, as for
-    :func:`~microslip.integrators.shared_lanes.run_shared`, or their ``cycles``
-    (:func:`~microslip.integrators.periodic_tape.cycles`) where the caller has them."""
+    integration's failure) once the GPU is done. ``periods``: the set-ups' periodic
+    normal motions, as for :func:`~microslip.integrators.shared_lanes.run_shared`, or
+    their ``cycles`` (:func:`~microslip.integrators.periodic_tape.cycles`) where the
+    caller has them;
+    with ``cycles_on_gpu`` the kernel reads a periodic set-up's cycle itself and the
+    blocks hold no rows of it, else they hold its repeated rows."""
     n_groups = normal_coeffs.shape[0]
     t_end, dt = float(t_end), float(dt)
     if cycles is None:
@@ -213,12 +251,13 @@ def run_blocks(kernel, normal_coeffs, normal_states0, n_lanes, t_end, dt, tape_r
         tape_rows = max(16, min(TAPE_ROWS, TAPE_BLOCK_BYTES // (n_groups * nt.ROW * 8)))
     works = np.zeros((n_groups, nt.WORK_SCRATCH, nt.N_STATE))
     status = np.ones(n_groups, dtype=np.int64)
+    if cycles_on_gpu:
+        status[cycles[2][:, 0] > 0] = 0  # nothing to fill: 0 rows in every block
     # Two blocks of tapes in flight: page-locked on the host (asynchronous copies), one
     # filled by the CPU while the other is copied and run. One stream keeps each
     # block's copy before its kernel and the kernels in order.
     shape = (n_groups, int(tape_rows), nt.ROW)
-    tapes = [cuda.pinned_array(shape), cuda.pinned_array(shape)]
-    rows = [cuda.pinned_array(n_groups, dtype=np.int64) for _ in range(2)]
+    tapes, rows = _take_pinned(shape)
     d_tapes = [cuda.device_array(shape, stream=stream) for _ in range(2)]
     d_rows = [cuda.device_array(n_groups, dtype=np.int64, stream=stream) for _ in range(2)]
     copied = [cuda.event(), cuda.event()]
@@ -238,20 +277,22 @@ def run_blocks(kernel, normal_coeffs, normal_states0, n_lanes, t_end, dt, tape_r
         copied[b].synchronize()  # the host buffer's last copy (two blocks ago) is done
         _fill_tapes(normal_coeffs, carries, works, tapes[b], rows[b], status, t_end, dt,
                     *cycles)  # fmt: skip
+    stream.synchronize()  # the blocks' copies are done: the buffers may serve another run
+    _give_back_pinned(shape, (tapes, rows))
     return np.where(status > 1, status, OK)
 
 
 def run_lanes(kernel, name, normal_coeffs, normal_states0, lanes, lane_group, t_end, dt,
               tape_rows, before=(), after=(), periods=None, prepare=None,
-              check=None, cycles=None):  # fmt: skip
+              check=None, cycles=None, cycles_on_gpu=False):  # fmt: skip
     """Run ``kernel`` over every block of tapes (:func:`run_blocks`, with ``prepare``) on
     ``lanes`` (rows x lanes, a column per lane, ``lane_group`` its set-up) and return
     (lanes, switches, flagged) from the GPU. The kernel takes (tapes, rows, lane_group,
     *before, lanes, *after, switches, flagged, stalled), ``before`` and ``after`` host
     arrays that go to the GPU with it (or arrays on the GPU already). ``check()``, where
     given, runs once the GPU is done and may raise first; then RuntimeError naming
-    ``name`` and the set-up if a normal integration failed or a lane stalled. ``periods``
-    or ``cycles`` as for :func:`run_blocks`."""
+    ``name`` and the set-up if a normal integration failed or a lane stalled. ``periods``,
+    ``cycles`` and ``cycles_on_gpu`` as for :func:`run_blocks`."""
     n_groups, n_lanes = normal_coeffs.shape[0], lanes.shape[1]
     stream = cuda.stream()
 
@@ -266,7 +307,7 @@ def run_lanes(kernel, name, normal_coeffs, normal_states0, lanes, lane_group, t_
             cuda.to_device(lane_group, stream=stream),
             *(on_device(a) for a in before), d_lanes, *(on_device(a) for a in after), *counts,
         ),
-        periods, prepare, cycles,
+        periods, prepare, cycles, cycles_on_gpu,
     )  # fmt: skip
     lanes = d_lanes.copy_to_host(stream=stream)
     switches, flagged, stalled = (d.copy_to_host(stream=stream) for d in counts)
@@ -306,11 +347,11 @@ def run_shared_cuda(normal_coeffs, normal_states0, group_of_lane, forces, mu_sta
         start_modes(lanes, starts[g], starts[g + 1], n0)
     lane_group = np.repeat(np.arange(n_groups), np.diff(starts))
     cycles = periodic_tape.cycles(normal_coeffs, normal_states0, periods, float(t_end), float(dt))
-    shapes = cycles[2]
-    period_rows, repeats = shapes[:, 0].astype(np.int64), shapes[:, 2].astype(np.int64)
+    cycle_shape = cycles[2][:, :3].astype(np.int64)  # period rows, tail rows, repeats
+    cycle_rows = cycles[0] if cycles[0].shape[0] > 0 else np.zeros((1, nt.ROW))  # none: 1 row
     lanes, switches, flagged = run_lanes(
         _kernel(), "shared-normal kernel (CUDA)", normal_coeffs, normal_states0, lanes,
-        lane_group, t_end, dt, tape_rows, before=(period_rows, repeats),
-        after=(np.zeros((BOOK_ROWS, order.size)),), cycles=cycles,
+        lane_group, t_end, dt, tape_rows, before=(cycle_rows, cycles[1], cycle_shape),
+        after=(np.zeros(order.size, dtype=np.int8),), cycles=cycles, cycles_on_gpu=True,
     )  # fmt: skip
     return unpack_lanes(lanes, order, switches, flagged)
