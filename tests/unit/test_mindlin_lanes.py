@@ -175,3 +175,62 @@ def test_an_exponent_whose_stiffness_is_not_smooth_at_touchdown_is_refused(m2):
     normal0 = np.array([[P.static_deflection, 0.0]])
     with pytest.raises(ValueError, match=rf"m2 = {m2}: the Mindlin-lane kernel runs m2 = 1, 2"):
         run_mindlin_lanes(c[None], normal0, [RATIO], [0], [0.5], 0.1, 0.1, 1e-3, DT)
+
+
+def _repeated_set_up(amplitude, duration, dt=DT):
+    """(coefficients, (y0, ẏ0), cycle, shape) of a free vibration of amplitude A [m]
+    from rest at its top on a repeated tape (integrators/periodic_tape.py)."""
+    from microslip.integrators import periodic_tape
+
+    y0, ydot0 = initial_state_from_amplitude(P, amplitude)[:2]
+    period = ms.free_period(P, amplitude)
+    cycle, shape = periodic_tape.cycle_rows(C, y0, ydot0, period, duration, dt)
+    assert shape[0] > 0 and shape[1] > 0 and shape[2] >= 3  # periods and a tail
+    return y0, ydot0, cycle, shape
+
+
+@pytest.mark.parametrize("amplitude", [0.5 * P.static_deflection, 2.5 * P.static_deflection])
+def test_pieces_written_once_per_cycle_row_give_the_bits_of_writing_them_as_served(amplitude):
+    """On a repeated tape the kernel writes each cycle row's piece once and reads it
+    every period; writing it as each row is served (the rows shifted by k T, as
+    periodic_tape.repeat_rows serves them) must give the same bits: the piece of a
+    free vibration does not depend on the period it is in. With and without flights
+    (A = 2.5 y0 leaves contact); a wrong row (the tail's, say) changes the bits."""
+    from microslip.integrators import mindlin_lanes as ml
+    from microslip.integrators import periodic_tape
+
+    duration = 4.6 * P.natural_period
+    y0, ydot0, cycle, shape = _repeated_set_up(amplitude, duration)
+    forces = np.array([0.0, 0.2, 0.45, 0.55, 0.8, 1.2]) * P.mu * N
+
+    def lanes():
+        out = ml.pack_lanes(C[None], [RATIO], np.zeros(forces.size, dtype=np.int64), forces,
+                            P.mu, 0.8 * P.mu, what="ratio")[0]  # fmt: skip
+        return out, np.zeros(forces.size, dtype=np.int64), np.zeros(forces.size, dtype=np.int64)
+
+    cached, switches, flagged = lanes()
+    status = ml._run_group(C, y0, ydot0, RATIO, cycle, shape, duration, DT, cached, switches,
+                           flagged)  # fmt: skip
+    assert status == 0 and switches.sum() > 10
+    served, served_switches, served_flagged = lanes()
+    flying = ml.start_lanes(C, y0, ydot0, served, forces.size)
+    piece = np.zeros((1, law.PIECE))
+    law.set_setup(piece[0], P.mass, P.g, RATIO)
+    carry, tape, _work = nt.tape_buffers(y0, ydot0)
+    tape_status = 1
+    while tape_status == 1:
+        rows, tape_status = periodic_tape.repeat_rows(carry, tape, cycle, shape)
+        status, flying = ml._run_rows(served, tape, 0, rows, piece, False, -1, C, flying,
+                                      served_switches, served_flagged)  # fmt: skip
+        assert status == 0
+    assert np.array_equal(cached, served)
+    assert np.array_equal(switches, served_switches) and np.array_equal(flagged, served_flagged)
+
+
+def test_a_step_too_coarse_on_a_repeated_tape_is_refused_in_one_line():
+    amplitude = 0.5 * P.static_deflection
+    normal0 = np.array([initial_state_from_amplitude(P, amplitude)[:2]])
+    period = ms.free_period(P, amplitude)
+    with pytest.raises(ValueError, match=r"dt = .* too coarse for the Mindlin"):
+        run_mindlin_lanes(C[None], normal0, [RATIO], [0], [0.5], 0.1, 0.1, 5 * period,
+                          60.0 * DT, periods=[period])  # fmt: skip

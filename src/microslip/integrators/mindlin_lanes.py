@@ -8,8 +8,9 @@ branch-free pass over the lanes that advances each as if the piece held no switc
 bounds its switching function, and the law of
 :mod:`microslip.integrators.mindlin_lane_law` for the lanes it flags. What a piece's
 lanes share (the quartics k_t(τ), R(τ) = Ṅ/k_t and the stick's fundamental matrix Φ)
-is computed once per piece (:func:`~microslip.integrators.mindlin_lane_law.set_piece`),
-so a stuck lane costs a 2x2 matrix product and a sliding one the rigid law.
+is computed once per piece (:func:`~microslip.integrators.mindlin_lane_law.set_piece`;
+on a repeated tape once per row of the cycle, for every period), so a stuck lane costs
+a 2x2 matrix product and a sliding one the rigid law.
 
 A lane's arithmetic depends only on its own parameters and its set-up's tape (no
 fastmath): the same bits whatever the other lanes, their order or the threads.
@@ -127,49 +128,101 @@ def _vector_pass(lanes, n, a, piece, h_int, h2_kint):
 
 @njit(cache=True)
 def _run_group(c, y0, ydot0, ratio, cycle, shape, t_end, dt, lanes, switches, flagged):
-    """One normal set-up and its lanes, in place; returns the status."""
+    """One normal set-up and its lanes, in place; returns the status. On a repeated tape
+    (``shape``: period rows, tail rows, repeats, T) each row's piece is written once
+    (:func:`_piece_table`) and read every period: a free vibration's pieces are the same
+    every period, and set_piece is most of a set-up's own cost."""
     n = lanes.shape[1]
-    piece = np.zeros(law.PIECE)
-    law.set_setup(piece, c[MASS], c[GRAVITY], ratio)
     flying = start_lanes(c, y0, ydot0, lanes, n)
+    if shape[0] > 0:
+        period_rows, tail_rows, repeats, _period = shape
+        total = period_rows + tail_rows
+        table = np.zeros((total, law.PIECE))
+        coarse = _piece_table(table, cycle, total, c, ratio)
+        for _ in range(repeats):
+            status, flying = _run_rows(
+                lanes, cycle, 0, period_rows, table, True, coarse, c, flying, switches, flagged
+            )
+            if status != OK:
+                return status
+        return _run_rows(
+            lanes, cycle, period_rows, total, table, True, coarse, c, flying, switches, flagged
+        )[0]
+    piece = np.zeros((1, law.PIECE))  # written row by row, as the tape is filled
+    law.set_setup(piece[0], c[MASS], c[GRAVITY], ratio)
     carry, tape, work = nt.tape_buffers(y0, ydot0)
     while True:
-        if shape[0] > 0:
-            rows, tape_status = periodic_tape.repeat_rows(carry, tape, cycle, shape)
-        else:
-            rows, tape_status = nt.fill_tape(carry, c, t_end, dt, tape, work)
+        rows, tape_status = nt.fill_tape(carry, c, t_end, dt, tape, work)
         if tape_status > 1:
             return tape_status
-        for r in range(rows):
-            h = tape[r, nt.H]
-            a = nt.coefficients(tape, r)
-            if flight_piece(a):
-                fly(lanes, n, h, flying)
-                flying = True
-                continue
-            flying = False
-            if law.set_piece(piece, a, tape, r, c) != 0:
-                return STEP_TOO_COARSE
-            n_flagged = _vector_pass(
-                lanes, n, a, piece, h * tape[r, nt.INT1], h * h * tape[r, nt.KINT1]
-            )
-            for i in range(n):
-                if n_flagged == 0:
-                    break
-                if lanes[FLAG, i] != 0.0:
-                    n_flagged -= 1
-                    flagged[i] += 1
-                    xi, vi, fi, mi, k = law.lane_piece(
-                        a, piece, lanes[FORCE, i], lanes[FM, i], lanes[KM, i],
-                        lanes[MU_S, i], lanes[MU_K, i], lanes[X, i], lanes[V, i],
-                        lanes[FS, i], lanes[MODE, i],
-                    )  # fmt: skip
-                    if k < 0:
-                        return LANE_STALLED
-                    switches[i] += k
-                    lanes[X, i], lanes[V, i], lanes[FS, i], lanes[MODE, i] = xi, vi, fi, mi
+        status, flying = _run_rows(
+            lanes, tape, 0, rows, piece, False, -1, c, flying, switches, flagged
+        )
+        if status != OK:
+            return status
         if tape_status == 0:
             return OK
+
+
+@njit(cache=True)
+def _piece_table(table, rows, n_rows, c, ratio):
+    """Write the piece of each contact row r < ``n_rows`` of ``rows`` into table[r]
+    (its set-up's slots and law.set_piece's); returns the first row too coarse for the
+    tangential oscillation (θ > MAX_THETA), or ``n_rows``."""
+    coarse = n_rows
+    for r in range(n_rows):
+        law.set_setup(table[r], c[MASS], c[GRAVITY], ratio)
+        a = nt.coefficients(rows, r)
+        if flight_piece(a):
+            continue
+        if law.set_piece(table[r], a, rows, r, c) != 0 and coarse == n_rows:
+            coarse = r
+    return coarse
+
+
+@njit(cache=True)
+def _run_rows(lanes, rows, lo, hi, pieces, cached, coarse, c, flying, switches, flagged):
+    """The lanes over tape rows [lo, hi) of ``rows``, in place: a row in flight moves
+    them all (:func:`~microslip.integrators.spring_lanes.fly`), a contact row takes the
+    vector pass and the law for the lanes it flags. A contact row's piece is
+    pieces[r] where ``cached`` (``coarse``: the first row too coarse), else written into
+    pieces[0] here. Returns (status, whether the lanes are in flight)."""
+    n = lanes.shape[1]
+    for r in range(lo, hi):
+        h = rows[r, nt.H]
+        a = nt.coefficients(rows, r)
+        if flight_piece(a):
+            fly(lanes, n, h, flying)
+            flying = True
+            continue
+        flying = False
+        if cached:
+            if r == coarse:
+                return STEP_TOO_COARSE, flying
+            piece = pieces[r]
+        else:
+            piece = pieces[0]
+            if law.set_piece(piece, a, rows, r, c) != 0:
+                return STEP_TOO_COARSE, flying
+        n_flagged = _vector_pass(
+            lanes, n, a, piece, h * rows[r, nt.INT1], h * h * rows[r, nt.KINT1]
+        )
+        for i in range(n):
+            if n_flagged == 0:
+                break
+            if lanes[FLAG, i] != 0.0:
+                n_flagged -= 1
+                flagged[i] += 1
+                xi, vi, fi, mi, k = law.lane_piece(
+                    a, piece, lanes[FORCE, i], lanes[FM, i], lanes[KM, i],
+                    lanes[MU_S, i], lanes[MU_K, i], lanes[X, i], lanes[V, i],
+                    lanes[FS, i], lanes[MODE, i],
+                )  # fmt: skip
+                if k < 0:
+                    return LANE_STALLED, flying
+                switches[i] += k
+                lanes[X, i], lanes[V, i], lanes[FS, i], lanes[MODE, i] = xi, vi, fi, mi
+    return OK, flying
 
 
 @njit(cache=True, nogil=True)
