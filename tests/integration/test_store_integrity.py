@@ -178,3 +178,43 @@ def test_failed_chunk_write_stops_the_run_and_a_rerun_completes(tmp_path, monkey
     with warnings.catch_warnings():
         warnings.simplefilter("error")  # nothing damaged: (0, 5) was never recorded
         assert run_sweep(spec(), store=store).identical(run_sweep(spec()))
+
+
+def test_finished_chunks_waiting_for_a_slow_disk_are_bounded(tmp_path, monkeypatch):
+    """Where the store's writes are slower than the chunks come, the computation waits:
+    at most MAX_PENDING_WRITE_BYTES of finished chunks wait for the writer (without the
+    bound all of them would, a fraction of the map held twice), and the result is the
+    same as without a store."""
+    reference = run_sweep(spec())
+    block_bytes = FORCES.size * 3 * 8  # a chunk: one value of mu, forces x 3 amplitudes
+    monkeypatch.setattr(runner, "MAX_PENDING_WRITE_BYTES", 2 * block_bytes)
+    computed, written, waiting = [], [], []
+    real_compute, real_write = runner.compute_chunk, SweepStore.write
+
+    def compute(spec_, key):
+        computed.append(key)
+        waiting.append(len(computed) - len(written))
+        return real_compute(spec_, key)
+
+    def slow_write(self, key, block):
+        import time
+
+        time.sleep(0.05)
+        real_write(self, key, block)
+        written.append(key)
+
+    monkeypatch.setattr(runner, "compute_chunk", compute)
+    monkeypatch.setattr(SweepStore, "write", slow_write)
+    result = run_sweep(spec(), store=tmp_path / "slow.zarr")
+    assert len(computed) == 14 and len(written) == 14
+    # The chunk being computed, one being written and at most two queued (three behind a
+    # chunk of two amplitudes, the last of each mu). Unbounded, all 14 would queue.
+    assert max(waiting) <= 5, waiting
+    assert np.array_equal(result.mean_velocity.values, reference.mean_velocity.values)
+
+
+def test_points_left_uncomputed_are_counted_across_slabs():
+    values = np.zeros(3 * 2**20 + 8)
+    values[[0, 2**20 - 1, 2**20, 3 * 2**20 + 7]] = np.nan  # both sides of a slab edge, the tail
+    values[7] = np.inf  # an infinite mean velocity is a result, not a gap
+    assert runner._count_nan(values.reshape(-1, 4)) == 4

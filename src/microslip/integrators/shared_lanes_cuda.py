@@ -237,9 +237,8 @@ def run_blocks(kernel, normal_coeffs, normal_states0, n_lanes, t_end, dt, tape_r
     integration's failure) once the GPU is done. ``periods``: the set-ups' periodic
     normal motions, as for :func:`~microslip.integrators.shared_lanes.run_shared`, or
     their ``cycles`` (:func:`~microslip.integrators.periodic_tape.cycles`) where the
-    caller has them;
-    with ``cycles_on_gpu`` the kernel reads a periodic set-up's cycle itself and the
-    blocks hold no rows of it, else they hold its repeated rows."""
+    caller has them; with ``cycles_on_gpu`` the kernel reads a periodic set-up's cycle
+    itself and the blocks hold no rows of it, else they hold its repeated rows."""
     n_groups = normal_coeffs.shape[0]
     t_end, dt = float(t_end), float(dt)
     if cycles is None:
