@@ -73,11 +73,22 @@ STEADY_S_PER_POINT = 0.6e-6
 # 2026-11-24 on the paper's data, dt = T0/200, idle 2-core machine: 66 ns per set-up
 # step (the tape) on one thread, and 1.9 ns per lane-step per thread over a 256 x 256
 # map (0.05 s), switches included (~1 in 100 lane-steps, ~0.1-0.2 us each). Rounded up
-# ~3x and ~2x (the machine may be loaded). Every lane is counted through every step: on
-# a free vibration's repeated tape the lanes that repeat a period skip the rest
-# (integrators/shared_lanes.py), so such a map may run ten times faster than estimated.
+# ~3x and ~2x (the machine may be loaded). A free vibration's repeated tape takes a
+# fraction of this work (PARKED_LANE_PERIODS below).
 SHARED_S_PER_SETUP_STEP = 0.2e-6
 SHARED_S_PER_LANE_STEP = 4e-9
+# On a free vibration's repeated tape (integrators/periodic_tape.py) a set-up's tape is
+# one period and the tail, and a rigid lane that starts a period as it started the last
+# one takes the rest at once (integrators/lane_parking.py); one that accelerates for
+# ever (F > μ m g) never does. Measured 2026-11-27, the paper's 256 x 64 map, 1 thread:
+# 0.029, 0.038 and 0.054 s over 20, 74 and 297 periods, against 4.5 ms per period with
+# every lane stepped: 6-8 periods' worth (the last run's extra is its A = 0 set-up, which
+# has no period); rounded up 2x.
+PARKED_LANE_PERIODS = 16.0
+# A "time" chunk's own cost (its models, lane arrays, tapes' set-up, the thread hand-out):
+# measured 0.95 ms for a chunk of one lane on one set-up over 400 periods (its lane
+# parked), 2026-11-27.
+TIME_S_PER_CHUNK = 1e-3
 # One tape buffer per thread (normal_tape.TAPE_ROWS x ROW) and a piece vector.
 TAPE_BYTES = 2048 * 21 * 8 + 4096
 # "time" sweeps of a MindlinSpring whose contact exponent the Mindlin lanes do not run
@@ -333,6 +344,9 @@ def estimate_sweep(
     chunk_points: int = 1,
     axis_values: int = 0,
     kernel: str = "shared",
+    tape_fraction: float = 1.0,
+    lane_fraction: float = 1.0,
+    n_chunks: int = 0,
 ) -> Estimate:
     """Work, run time [s] and memory [bytes] of a sweep.
 
@@ -343,7 +357,10 @@ def estimate_sweep(
     each round also advancing its ``n_forces`` lanes (``kernel="spring"``: a
     TangentialSpring's lanes; ``kernel="mindlin"``: a MindlinSpring's, whose set-up
     steps cost more); with ``kernel="batched"`` (a MindlinSpring of another m2) from
-    ``lane_steps`` spread over the threads. Memory:
+    ``lane_steps`` spread over the threads; ``tape_fraction`` and ``lane_fraction`` of the
+    shared-normal kernels' tape and lane work remain where a free vibration's tape
+    repeats (:data:`PARKED_LANE_PERIODS`); each of ``n_chunks`` time chunks adds
+    :data:`TIME_S_PER_CHUNK`. Memory:
     the result
     (``SWEEP_BYTES_PER_POINT`` per point) and the buffers of the chunk of
     ``chunk_points`` points being computed (an in-process run computes one chunk at a
@@ -363,10 +380,12 @@ def estimate_sweep(
     else:
         lane_cost = SHARED_S_PER_LANE_STEP if kernel == "shared" else SPRING_S_PER_LANE_STEP
         setup_cost = MINDLIN_S_PER_SETUP_STEP if kernel == "mindlin" else SHARED_S_PER_SETUP_STEP
-        per_step = setup_cost + n_forces * lane_cost
+        per_step = setup_cost * tape_fraction + n_forces * lane_cost * lane_fraction
         seconds = setup_steps * per_step
         buffers = BATCH_BYTES_PER_LANE * chunk_points + batch_threads() * TAPE_BYTES
         work, unit = lane_steps, "trajectory-steps"
+    if method == "time":
+        seconds += n_chunks * TIME_S_PER_CHUNK
     return Estimate(
         what=f"sweep (method={method!r}, {points:.3g} points)",
         work=work,

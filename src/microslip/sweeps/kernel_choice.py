@@ -87,10 +87,15 @@ def estimate_work(
     duration: float,
     dt: float | None,
     amplitude_chunk: int,
+    forces=None,
+    amplitudes=None,
 ) -> budget.Estimate:
-    """Work, run time [s] and memory [bytes] from the sizes (no per-point structure)."""
+    """Work, run time [s] and memory [bytes] from the sizes; with the ``forces`` [N] and
+    ``amplitudes`` [m], a rigid time sweep of a free vibration is estimated on its
+    repeated tape (:func:`repeated_tape_fractions`)."""
     n_sets = math.prod(len(values) for _, values in param_axes)
     lane_steps = setup_steps = 0.0
+    n_chunks = 0
     if method == "time":
         if dt is not None:
             steps = np.full(1, float(math.ceil(duration / dt))) * n_sets
@@ -105,6 +110,13 @@ def estimate_work(
         if rest:
             rounds += budget.shared_chunk_rounds(rest)
         setup_steps = total_steps * rounds
+        n_chunks = n_sets * (full + (1 if rest else 0))
+    kernel = time_kernel(model, param_axes)
+    tape_fraction = lane_fraction = 1.0
+    if method == "time" and kernel == "shared" and forces is not None and amplitudes is not None:
+        tape_fraction, lane_fraction = repeated_tape_fractions(
+            model, param_axes, forces, amplitudes, duration
+        )
     values = n_forces + n_amplitudes + sum(len(v) for _, v in param_axes)
     return budget.estimate_sweep(
         method=method,
@@ -115,5 +127,37 @@ def estimate_work(
         setup_steps=setup_steps,
         chunk_points=n_forces * amplitude_chunk,
         axis_values=values,
-        kernel=time_kernel(model, param_axes),
+        kernel=kernel,
+        tape_fraction=tape_fraction,
+        lane_fraction=lane_fraction,
+        n_chunks=n_chunks,
     )
+
+
+def repeated_tape_fractions(model: Model, param_axes, forces, amplitudes, duration: float):
+    """(tape, lane): the fractions of a rigid time sweep's stepped tape and lane work
+    [1] left on a free vibration's repeated tape (:data:`microslip.budget.PARKED_LANE_PERIODS`):
+    a set-up with an amplitude 0 < A <= max_amplitude has a one-period tape, and its lanes
+    with |F| <= μ m g take about that many periods (those beyond accelerate for ever and
+    take them all). Counted over the longest of the periods at the smallest and largest
+    A (the fewest periods: the larger fractions). (1, 1) where the tape is not repeated:
+    damping, excitation, a parameter axis, or fewer than two periods."""
+    if model.damping is not None or model.excitation is not None or len(param_axes) > 0:
+        return 1.0, 1.0
+    from microslip.analysis.free_vibration import free_period
+
+    params = model.params
+    amplitudes = np.asarray(amplitudes, dtype=float)
+    periodic = (amplitudes > 0.0) & (amplitudes <= params.max_amplitude)
+    if not periodic.any():
+        return 1.0, 1.0
+    ends = (amplitudes[periodic].min(), amplitudes[periodic].max())
+    periods = duration / max(free_period(params, float(a)) for a in ends)
+    if periods < 2.0:
+        return 1.0, 1.0
+    share = float(periodic.mean())
+    sliding = float(np.mean(np.abs(np.asarray(forces)) > params.mu * params.mass * params.g))
+    lane_periods = min(1.0, budget.PARKED_LANE_PERIODS / periods)
+    tape = 1.0 - share + share * min(1.0, 2.0 / periods)
+    lane = 1.0 - share + share * (sliding + (1.0 - sliding) * lane_periods)
+    return tape, lane

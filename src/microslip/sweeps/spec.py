@@ -193,8 +193,9 @@ class SweepSpec:
         check_fields(params, arrays)
         check_part_axes(model, arrays)
         estimate = estimate_work(
-            model, arrays, len(forces), len(amplitudes), method, duration, dt, amplitude_chunk
-        )
+            model, arrays, len(forces), len(amplitudes), method, duration, dt, amplitude_chunk,
+            forces, amplitudes,
+        )  # fmt: skip
         if allow_large is not None:
             budget.check(estimate, allow_large=allow_large)
         # Memory beyond what is available cannot be had, whatever allow_large says.
@@ -291,7 +292,7 @@ class SweepSpec:
         """Estimated work, run time [s] and memory [bytes] (:mod:`microslip.budget`)."""
         return estimate_work(
             self.base, self.param_axes, len(self.forces), len(self.amplitudes), self.method,
-            self.duration, self.dt, self.amplitude_chunk,
+            self.duration, self.dt, self.amplitude_chunk, self.forces, self.amplitudes,
         )  # fmt: skip
 
     def check_budget(self, *, allow_large: bool = False) -> None:
