@@ -20,7 +20,7 @@ import numpy as np
 from numba.core import types
 
 import microslip as ms
-from microslip.integrators import kernel, methods, switching
+from microslip.integrators import kernel, methods, shared_lanes, switching
 from microslip.integrators.batched import simulate_batch
 from microslip.model import switches, switching_functions, system
 from microslip.model.coefficients import pack
@@ -40,6 +40,8 @@ DISPATCHERS = {
     "advance": methods.advance,
     "normal_force_call": system.normal_force_call,
     "normal_force_rate_call": system.normal_force_rate_call,
+    # Not the switching core, but as large: the rigid lanes over a range of tape rows.
+    "_lanes_over_rows": shared_lanes._lanes_over_rows,
 }
 
 

@@ -111,6 +111,11 @@ def _active_end(lanes, n):
     return n
 
 
+# Row 0 as a NumPy integer: a literal 0 would compile _lanes_over_rows a second time, for
+# Literal[int](0) beside int64 (~2 s of cold compile; docs/design.md).
+FIRST_ROW = np.int64(0)
+
+
 @njit(cache=True)
 def _lanes_over_rows(tape, r0, r1, lanes, n, n_active, switches, flagged):
     """Lanes [0, n) (sorted by decreasing |F|/μ_s) through rows [r0, r1) of ``tape``,
@@ -170,7 +175,9 @@ def _run_group(c, y0, ydot0, cycle, shape, t_end, dt, lanes, switches, flagged, 
         rows, tape_status = nt.fill_tape(carry, c, t_end, dt, tape, work)
         if tape_status > 1:
             return tape_status
-        status, n_active = _lanes_over_rows(tape, 0, rows, lanes, n, n_active, switches, flagged)
+        status, n_active = _lanes_over_rows(
+            tape, FIRST_ROW, rows, lanes, n, n_active, switches, flagged
+        )
         if status != OK:
             return status
         if tape_status == 0:
@@ -199,7 +206,7 @@ def _run_cycle(cycle, shape, lanes, switches, flagged, n_active, park):
         if park:
             parking.mark_period_start(lanes, switches, flagged, book, n_live, X, V, MODE)
         status, n_active = _lanes_over_rows(
-            cycle, 0, period_rows, lanes, n_live, n_active, switches, flagged
+            cycle, FIRST_ROW, period_rows, lanes, n_live, n_active, switches, flagged
         )
         if status != OK:
             return status
