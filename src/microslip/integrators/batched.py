@@ -228,7 +228,7 @@ def _run_blocks(b_lo, b_hi, coeffs, states, directions, times, switches, flagged
 @njit(cache=True)
 def _initial_modes(coeffs, states, out):
     for i in range(states.shape[0]):
-        out[i] = initial_mode(0.0, states[i], coeffs[i])
+        out[i] = initial_mode(0.0, states[i], as_tuple(coeffs[i]))  # as the laws take it
 
 
 @dataclass(frozen=True)

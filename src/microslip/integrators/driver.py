@@ -63,7 +63,9 @@ def integrate(
     n_state = s0.size
     atol = np.zeros(n_state) if atol is None else np.asarray(atol, dtype=float)
     t_eval = np.empty(0) if t_eval is None else np.asarray(t_eval, dtype=float)
-    direction0 = initial_mode(t0, s0, coeffs)
+    # The coefficients as a tuple, as the kernels pass them: one compiled initial_mode
+    # (and normal force) for both, not a second one for an array (~2 s of cold compile).
+    direction0 = initial_mode(t0, s0, tuple(np.asarray(coeffs, dtype=np.float64)))
     carry = np.zeros(kernel.carry_size(n_state))
     carry[kernel.C_T] = t0
     carry[kernel.C_STATE :] = s0
