@@ -7,7 +7,7 @@ import numpy as np
 from microslip.analysis.steady_state import ORBIT_STEPS, mean_velocity_grid
 from microslip.model.coefficients import FORCE, pack
 from microslip.simulation import DEFAULT_RK4_STEPS_PER_PERIOD, initial_state_from_amplitude
-from microslip.sweeps.kernel_choice import time_kernel
+from microslip.sweeps.kernel_choice import repeats_from_rest, time_kernel
 from microslip.sweeps.spec import ChunkKey, SweepSpec
 
 
@@ -175,10 +175,8 @@ def _normal_periods(models, normal0) -> np.ndarray:
 
     periods = np.zeros(len(models))
     for g, model in enumerate(models):
-        if model.damping is not None or model.excitation is not None or normal0[g, 1] != 0.0:
-            continue
         amplitude = model.params.static_deflection - normal0[g, 0]
-        if 0.0 < amplitude <= model.params.max_amplitude:
+        if normal0[g, 1] == 0.0 and repeats_from_rest(model, amplitude):
             periods[g] = free_period(model.params, amplitude)
     return periods
 

@@ -134,21 +134,33 @@ def estimate_work(
     )
 
 
+def repeats_from_rest(model: Model, amplitude: float) -> bool:
+    """Whether the normal motion of ``model`` from rest at amplitude A [m] above its
+    equilibrium repeats from t = 0: a conservative free vibration (no damping, no
+    excitation) with 0 < A <= max_amplitude, whose tape is one period, repeated
+    (:mod:`~microslip.integrators.periodic_tape`)."""
+    return (
+        model.damping is None
+        and model.excitation is None
+        and 0.0 < amplitude <= model.params.max_amplitude
+    )
+
+
 def repeated_tape_fractions(model: Model, param_axes, forces, amplitudes, duration: float):
     """(tape, lane): the fractions of a rigid time sweep's stepped tape and lane work
     [1] left on a free vibration's repeated tape (:data:`microslip.budget.PARKED_LANE_PERIODS`):
-    a set-up with an amplitude 0 < A <= max_amplitude has a one-period tape, and its lanes
+    a set-up that repeats (:func:`repeats_from_rest`) has a one-period tape, and its lanes
     with |F| <= μ m g take about that many periods (those beyond accelerate for ever and
     take them all). Counted over the longest of the periods at the smallest and largest
     A (the fewest periods: the larger fractions). (1, 1) where the tape is not repeated:
     damping, excitation, a parameter axis, or fewer than two periods."""
-    if model.damping is not None or model.excitation is not None or len(param_axes) > 0:
+    if len(param_axes) > 0:
         return 1.0, 1.0
     from microslip.analysis.free_vibration import free_period
 
     params = model.params
     amplitudes = np.asarray(amplitudes, dtype=float)
-    periodic = (amplitudes > 0.0) & (amplitudes <= params.max_amplitude)
+    periodic = np.array([repeats_from_rest(model, float(a)) for a in amplitudes], dtype=bool)
     if not periodic.any():
         return 1.0, 1.0
     ends = (amplitudes[periodic].min(), amplitudes[periodic].max())
