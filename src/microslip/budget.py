@@ -89,6 +89,9 @@ PARKED_LANE_PERIODS = 16.0
 # measured 0.95 ms for a chunk of one lane on one set-up over 400 periods (its lane
 # parked), 2026-11-27.
 TIME_S_PER_CHUNK = 1e-3
+# Building a repeating set-up's one-period tape (periodic_tape.cycles, Python around the
+# compiled fill_tape): measured 0.047-0.053 ms per set-up, 2026-11-27; rounded up 3x.
+TIME_S_PER_CYCLE = 0.15e-3
 # One tape buffer per thread (normal_tape.TAPE_ROWS x ROW) and a piece vector.
 TAPE_BYTES = 2048 * 21 * 8 + 4096
 # "time" sweeps of a MindlinSpring whose contact exponent the Mindlin lanes do not run
@@ -346,6 +349,8 @@ def estimate_sweep(
     kernel: str = "shared",
     tape_fraction: float = 1.0,
     lane_fraction: float = 1.0,
+    stepped_steps: float = 0.0,
+    cycles: int = 0,
     n_chunks: int = 0,
 ) -> Estimate:
     """Work, run time [s] and memory [bytes] of a sweep.
@@ -357,10 +362,12 @@ def estimate_sweep(
     each round also advancing its ``n_forces`` lanes (``kernel="spring"``: a
     TangentialSpring's lanes; ``kernel="mindlin"``: a MindlinSpring's, whose set-up
     steps cost more); with ``kernel="batched"`` (a MindlinSpring of another m2) from
-    ``lane_steps`` spread over the threads; ``tape_fraction`` and ``lane_fraction`` of the
-    shared-normal kernels' tape and lane work remain where a free vibration's tape
-    repeats (:data:`PARKED_LANE_PERIODS`); each of ``n_chunks`` time chunks adds
-    :data:`TIME_S_PER_CHUNK`. Memory:
+    ``lane_steps`` spread over the threads. Where a free vibration's tape repeats, a
+    round costs ``tape_fraction`` and ``lane_fraction`` of the shared-normal kernels'
+    tape and lane work (:data:`PARKED_LANE_PERIODS`), each of its ``cycles`` set-ups
+    :data:`TIME_S_PER_CYCLE`, and the set-ups that do not repeat ``stepped_steps`` at the
+    full cost, each as a round of its own (it cannot be shared out); each of
+    ``n_chunks`` time chunks adds :data:`TIME_S_PER_CHUNK`. Memory:
     the result
     (``SWEEP_BYTES_PER_POINT`` per point) and the buffers of the chunk of
     ``chunk_points`` points being computed (an in-process run computes one chunk at a
@@ -380,8 +387,10 @@ def estimate_sweep(
     else:
         lane_cost = SHARED_S_PER_LANE_STEP if kernel == "shared" else SPRING_S_PER_LANE_STEP
         setup_cost = MINDLIN_S_PER_SETUP_STEP if kernel == "mindlin" else SHARED_S_PER_SETUP_STEP
-        per_step = setup_cost * tape_fraction + n_forces * lane_cost * lane_fraction
-        seconds = setup_steps * per_step
+        per_step = setup_cost + n_forces * lane_cost
+        repeated_step = setup_cost * tape_fraction + n_forces * lane_cost * lane_fraction
+        seconds = setup_steps * repeated_step + stepped_steps * per_step
+        seconds += cycles * TIME_S_PER_CYCLE
         buffers = BATCH_BYTES_PER_LANE * chunk_points + batch_threads() * TAPE_BYTES
         work, unit = lane_steps, "trajectory-steps"
     if method == "time":

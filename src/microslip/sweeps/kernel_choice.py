@@ -92,9 +92,9 @@ def estimate_work(
 ) -> budget.Estimate:
     """Work, run time [s] and memory [bytes] from the sizes; with the ``forces`` [N] and
     ``amplitudes`` [m], a rigid time sweep of a free vibration is estimated on its
-    repeated tape (:func:`repeated_tape_fractions`)."""
+    repeated tape (:func:`repeated_tape_work`)."""
     n_sets = math.prod(len(values) for _, values in param_axes)
-    lane_steps = setup_steps = 0.0
+    lane_steps = setup_steps = total_steps = 0.0
     n_chunks = 0
     if method == "time":
         if dt is not None:
@@ -112,9 +112,9 @@ def estimate_work(
         setup_steps = total_steps * rounds
         n_chunks = n_sets * (full + (1 if rest else 0))
     kernel = time_kernel(model, param_axes)
-    tape_fraction = lane_fraction = 1.0
+    tape_fraction, lane_fraction, stepped, cycles = 1.0, 1.0, 0, 0
     if method == "time" and kernel == "shared" and forces is not None and amplitudes is not None:
-        tape_fraction, lane_fraction = repeated_tape_fractions(
+        tape_fraction, lane_fraction, stepped, cycles = repeated_tape_work(
             model, param_axes, forces, amplitudes, duration
         )
     values = n_forces + n_amplitudes + sum(len(v) for _, v in param_axes)
@@ -130,6 +130,8 @@ def estimate_work(
         kernel=kernel,
         tape_fraction=tape_fraction,
         lane_fraction=lane_fraction,
+        stepped_steps=total_steps * stepped,
+        cycles=cycles,
         n_chunks=n_chunks,
     )
 
@@ -146,30 +148,31 @@ def repeats_from_rest(model: Model, amplitude: float) -> bool:
     )
 
 
-def repeated_tape_fractions(model: Model, param_axes, forces, amplitudes, duration: float):
-    """(tape, lane): the fractions of a rigid time sweep's stepped tape and lane work
-    [1] left on a free vibration's repeated tape (:data:`microslip.budget.PARKED_LANE_PERIODS`):
-    a set-up that repeats (:func:`repeats_from_rest`) has a one-period tape, and its lanes
-    with |F| <= μ m g take about that many periods (those beyond accelerate for ever and
-    take them all). Counted over the longest of the periods at the smallest and largest
-    A (the fewest periods: the larger fractions). (1, 1) where the tape is not repeated:
-    damping, excitation, a parameter axis, or fewer than two periods."""
+def repeated_tape_work(model: Model, param_axes, forces, amplitudes, duration: float):
+    """(tape, lane, stepped, repeating) of a rigid time sweep on a free vibration's
+    repeated tape (:data:`microslip.budget.PARKED_LANE_PERIODS`): the fractions [1] of a
+    set-up's stepped tape and lane work left where it repeats (:func:`repeats_from_rest`:
+    a one-period tape, and lanes with |F| <= μ m g that take about that many periods;
+    those beyond accelerate for ever and take them all), counted over the longest of
+    the periods at the smallest and largest A (the fewest periods: the larger
+    fractions); and the numbers of set-ups that do not repeat (A = 0) and that do.
+    (1, 1, 0, 0), every set-up at the full cost, where the tape is not repeated: damping,
+    excitation, a parameter axis, or fewer than two periods."""
+    none = (1.0, 1.0, 0, 0)
     if len(param_axes) > 0:
-        return 1.0, 1.0
+        return none
     from microslip.analysis.free_vibration import free_period
 
     params = model.params
     amplitudes = np.asarray(amplitudes, dtype=float)
     periodic = np.array([repeats_from_rest(model, float(a)) for a in amplitudes], dtype=bool)
     if not periodic.any():
-        return 1.0, 1.0
+        return none
     ends = (amplitudes[periodic].min(), amplitudes[periodic].max())
     periods = duration / max(free_period(params, float(a)) for a in ends)
     if periods < 2.0:
-        return 1.0, 1.0
-    share = float(periodic.mean())
+        return none
     sliding = float(np.mean(np.abs(np.asarray(forces)) > params.mu * params.mass * params.g))
-    lane_periods = min(1.0, budget.PARKED_LANE_PERIODS / periods)
-    tape = 1.0 - share + share * min(1.0, 2.0 / periods)
-    lane = 1.0 - share + share * (sliding + (1.0 - sliding) * lane_periods)
-    return tape, lane
+    lane = sliding + (1.0 - sliding) * min(1.0, budget.PARKED_LANE_PERIODS / periods)
+    repeating = int(periodic.sum())
+    return min(1.0, 2.0 / periods), lane, periodic.size - repeating, repeating
