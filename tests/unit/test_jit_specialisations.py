@@ -20,9 +20,24 @@ import numpy as np
 from numba.core import types
 
 import microslip as ms
-from microslip.integrators import kernel, methods, shared_lanes, switching
+from microslip.integrators import (
+    kernel,
+    lane_parking,
+    methods,
+    mindlin_lanes,
+    shared_lanes,
+    switching,
+)
 from microslip.integrators.batched import simulate_batch
-from microslip.model import switches, switching_functions, system
+from microslip.model import (
+    contact,
+    damping,
+    excitation,
+    normal,
+    switches,
+    switching_functions,
+    system,
+)
 from microslip.model.coefficients import pack
 
 PACKAGE = Path(ms.__file__).resolve().parent
@@ -40,8 +55,28 @@ DISPATCHERS = {
     "advance": methods.advance,
     "normal_force_call": system.normal_force_call,
     "normal_force_rate_call": system.normal_force_rate_call,
-    # Not the switching core, but as large: the rigid lanes over a range of tape rows.
+    # Not the switching core, but as large: the rigid lanes over a range of tape rows,
+    # the Mindlin lanes over a range of rows, the moves of parked lanes, the output.
     "_lanes_over_rows": shared_lanes._lanes_over_rows,
+    "_run_rows": mindlin_lanes._run_rows,
+    "_copy_lane": lane_parking._copy_lane,
+    "_write": kernel._write,
+}
+
+# The normal laws, compiled functions that every path calls (docs/design.md, "Compile
+# time"): each must be compiled for the coefficient tuple alone. A path that passes the
+# coefficient array compiles every law beneath a second time.
+LAWS = {
+    "elastic_force": contact.elastic_force,
+    "elastic_stiffness": contact.elastic_stiffness,
+    "damped_force": damping.damped_force,
+    "damped_force_partials": damping.damped_force_partials,
+    "applied_force": excitation.applied_force,
+    "gap": normal.gap,
+    "normal_force": normal.normal_force,
+    "normal_acceleration": normal.normal_acceleration,
+    "normal_force_rate": normal.normal_force_rate,
+    "normal_acceleration_call": system.normal_acceleration_call,
 }
 
 
@@ -119,7 +154,26 @@ def test_no_literal_specialisations_of_the_switching_core():
     ms.simulate(forced, force=0.5, duration=1e-3, method="rk4")
     states0 = np.array([[params.static_deflection - 1e-7, 0.0, 0.0, 0.0]])
     simulate_batch(pack(params, 0.5)[None, :], states0, 1e-3, params.natural_period / 200)
+    _run_the_lane_kernels(params)
     for name, dispatcher in DISPATCHERS.items():
         assert _literal_signatures(dispatcher) == [], (
             f"{name} is specialised on a constant: {_literal_signatures(dispatcher)}"
         )
+
+
+def _run_the_lane_kernels(params):
+    # The steady map, the paper's time map on a repeated tape (parking), the spring and
+    # Mindlin lanes on a stepped and on a repeated tape.
+    ms.velocity_map(params, forces=[0.2, 0.6], amplitudes=[0.0, 1e-7])
+    ms.velocity_map(params, forces=[0.2, 0.6], amplitudes=[1e-7], method="time", duration=4e-3)
+    for tangential in (ms.TangentialSpring(params.contact_stiffness), ms.MindlinSpring(0.8235)):
+        model = ms.Model(params, tangential=tangential)
+        ms.sweep(model, None, force=[0.3], amplitude=[0.0, 1e-7], method="time", duration=4e-3)
+
+
+def test_the_laws_are_compiled_for_the_coefficient_tuple_alone():
+    _run_the_lane_kernels(ms.Parameters())
+    ms.simulate(ms.Parameters(), force=0.5, amplitude=1e-7, duration=1e-3)
+    for name, dispatcher in LAWS.items():
+        arrays = [sig for sig in dispatcher.signatures if isinstance(sig[-1], types.Array)]
+        assert arrays == [], f"{name} is compiled for a coefficient array: {arrays}"

@@ -21,8 +21,6 @@ import math
 from numba import njit
 
 from microslip import _jit_cache  # noqa: F401  (registers the cache before any @njit)
-
-# The Dormand–Prince 5(4) tableau: _dp54 below is its arithmetic on the two normal states.
 from microslip.integrators.dp54_tableau import (
     _A21,
     _A31,
@@ -45,6 +43,9 @@ from microslip.integrators.dp54_tableau import (
     _B5,
     _B6,
 )
+
+# The Dormand–Prince 5(4) tableau: _dp54 below is its arithmetic on the two normal states.
+from microslip.integrators.kernel import as_tuple
 from microslip.model.coefficients import AREA_CN, EXPONENT, GRAVITY, MASS
 from microslip.model.normal import normal_acceleration
 from microslip.model.system import normal_acceleration_call
@@ -166,6 +167,9 @@ def build_half_orbit(amplitude, c, steps_per_half, ys, yds, summary):
     else:
         t_flight = 0.0
         y, v = y_top, 0.0
+    # The laws take the coefficients as a tuple, as every other path passes them: one
+    # compiled form of each (docs/design.md, "Compile time").
+    laws = as_tuple(c)
     capacity = ys.shape[0]
     ys[0] = y
     yds[0] = v
@@ -173,15 +177,15 @@ def build_half_orbit(amplitude, c, steps_per_half, ys, yds, summary):
     while True:
         if n >= capacity:
             return False
-        y, v = _dp54(y, v, h, c)
+        y, v = _dp54(y, v, h, laws)
         ys[n] = y
         yds[n] = v
         n += 1
         if v <= 0.0:
             break
     # The bottom (ẏ = 0) lies in the last interval: bisect the interpolated slope.
-    a0 = normal_acceleration(0.0, ys[n - 2], 0.0, c)
-    a1 = normal_acceleration(0.0, ys[n - 1], 0.0, c)
+    a0 = normal_acceleration(0.0, ys[n - 2], 0.0, laws)
+    a1 = normal_acceleration(0.0, ys[n - 1], 0.0, laws)
     lo, hi = 0.0, 1.0
     for _ in range(80):
         mid = 0.5 * (lo + hi)
@@ -202,8 +206,9 @@ def build_half_orbit(amplitude, c, steps_per_half, ys, yds, summary):
 @njit(cache=True)
 def node_accelerations(ys, summary, c, ydds):
     """ydds[k] = ÿ [m/s^2] of (2.4) at the table nodes (the Hermite data of table_state)."""
+    laws = as_tuple(c)
     for k in range(int(summary[O_NODES])):
-        ydds[k] = normal_acceleration(0.0, ys[k], 0.0, c)
+        ydds[k] = normal_acceleration(0.0, ys[k], 0.0, laws)
 
 
 @njit(cache=True, inline="always")

@@ -18,6 +18,7 @@ from numba import njit
 from microslip import _jit_cache  # noqa: F401  (registers the cache before any @njit)
 from microslip.analysis import orbit
 from microslip.integrators import threads
+from microslip.integrators.kernel import as_tuple
 from microslip.model.coefficients import AREA_CN, EXPONENT, GRAVITY, MASS, MU
 from microslip.model.contact import elastic_force
 
@@ -46,7 +47,7 @@ def steady_cycle(force, ys, yds, ydds, summary, c, out):
     period = 2.0 * summary[orbit.O_HALF]
     mu = c[MU]
     mass = c[MASS]
-    threshold = mu * elastic_force(summary[orbit.O_TOP], c)
+    threshold = mu * elastic_force(summary[orbit.O_TOP], as_tuple(c))
     out[CY_PERIOD] = period
     if not force > threshold:
         out[CY_MEAN] = 0.0
@@ -86,7 +87,7 @@ def _force_lane(first, stride, forces, y_release, accel, c, ys, yds, ydds, summa
     mu = c[MU]
     limit = mu * c[MASS] * c[GRAVITY]
     period = 2.0 * summary[orbit.O_HALF]
-    threshold = mu * elastic_force(summary[orbit.O_TOP], c)
+    threshold = mu * elastic_force(summary[orbit.O_TOP], as_tuple(c))
     for i in range(first, forces.shape[0], stride):
         force = forces[i]
         if not force > threshold:

@@ -50,13 +50,13 @@ def carry_size(n_state: int) -> int:
     return C_STATE + n_state
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True)
 def as_tuple(c):
     """The coefficient vector as a tuple of SIZE floats (laws index it as an array)."""
     return to_fixed_tuple(c, SIZE)
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True)
 def next_grid_point(t, t0, k, dt, t_end):
     """(target [s], k): the first point t0 + k·dt of the fixed-step grid past t (from
     index k on), or t_end when that is past, or within 1e-9 dt of, the end."""
@@ -69,7 +69,7 @@ def next_grid_point(t, t0, k, dt, t_end):
         k += 1
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True)
 def copy_state(src, dst):
     for i in range(src.shape[0]):
         dst[i] = src[i]
@@ -120,7 +120,7 @@ def integrate_chunk(
     n_state = carry.shape[0] - C_STATE
     cap = out_t.shape[0]
     ev_cap = ev_t.shape[0]
-    n_out = 0
+    n_out = np.int64(0)  # not a literal 0: one compile of _write (docs/design.md)
     n_ev = 0
     # Scratch for the whole call: no allocation per step.
     s = carry[C_STATE:].copy()

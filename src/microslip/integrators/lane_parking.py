@@ -96,7 +96,7 @@ def park(lanes, switches, flagged, book, n_live, period, x_row, v_row, mode_row)
         np.empty((lanes.shape[0], n_parked)), np.empty(n_parked, dtype=np.int64),
         np.empty(n_parked, dtype=np.int64), np.empty((BOOK_ROWS, n_parked)),
     )  # fmt: skip
-    live = parked = 0
+    live = parked = np.int64(0)  # not a literal 0: one compile of _copy_lane (docs/design.md)
     for i in range(n_live):
         if repeating[i]:
             _copy_lane(lanes, switches, flagged, book, i, *held, parked)

@@ -33,7 +33,15 @@ from microslip import _jit_cache  # noqa: F401  (registers the cache before any 
 from microslip.integrators import mindlin_lane_law as law
 from microslip.integrators import normal_tape as nt
 from microslip.integrators import periodic_tape, threads
-from microslip.integrators.shared_lanes import LANE_STALLED, OK, raise_on_failure
+from microslip.integrators.kernel import as_tuple
+from microslip.integrators.shared_lanes import (
+    FIRST_ROW,
+    LANE_STALLED,
+    OK,
+    put_group,
+    raise_on_failure,
+    take_group,
+)
 from microslip.integrators.spring_lanes import (
     FLAG,
     FM,
@@ -141,12 +149,13 @@ def _run_group(c, y0, ydot0, ratio, cycle, shape, t_end, dt, lanes, switches, fl
         coarse = _piece_table(table, cycle, total, c, ratio)
         for _ in range(repeats):
             status, flying = _run_rows(
-                lanes, cycle, 0, period_rows, table, True, coarse, c, flying, switches, flagged
-            )
+                lanes, cycle, FIRST_ROW, period_rows, table, CACHED, coarse, c, flying, switches,
+                flagged,
+            )  # fmt: skip
             if status != OK:
                 return status
         return _run_rows(
-            lanes, cycle, period_rows, total, table, True, coarse, c, flying, switches, flagged
+            lanes, cycle, period_rows, total, table, CACHED, coarse, c, flying, switches, flagged
         )[0]
     piece = np.zeros((1, law.PIECE))  # written row by row, as the tape is filled
     law.set_setup(piece[0], c[MASS], c[GRAVITY], ratio)
@@ -156,8 +165,9 @@ def _run_group(c, y0, ydot0, ratio, cycle, shape, t_end, dt, lanes, switches, fl
         if tape_status > 1:
             return tape_status
         status, flying = _run_rows(
-            lanes, tape, 0, rows, piece, False, -1, c, flying, switches, flagged
-        )
+            lanes, tape, FIRST_ROW, rows, piece, NOT_CACHED, NO_COARSE_ROW, c, flying, switches,
+            flagged,
+        )  # fmt: skip
         if status != OK:
             return status
         if tape_status == 0:
@@ -175,9 +185,16 @@ def _piece_table(table, rows, n_rows, c, ratio):
         a = nt.coefficients(rows, r)
         if flight_piece(a):
             continue
-        if law.set_piece(table[r], a, rows, r, c) != 0 and coarse == n_rows:
+        if law.set_piece(table[r], a, rows, r, as_tuple(c)) != 0 and coarse == n_rows:
             coarse = r
     return coarse
+
+
+# The flags and codes of _run_rows as NumPy scalars, not literals, which would compile it
+# once per value (docs/design.md).
+CACHED = np.bool_(True)
+NOT_CACHED = np.bool_(False)
+NO_COARSE_ROW = np.int64(-1)
 
 
 @njit(cache=True)
@@ -202,7 +219,7 @@ def _run_rows(lanes, rows, lo, hi, pieces, cached, coarse, c, flying, switches, 
             piece = pieces[r]
         else:
             piece = pieces[0]
-            if law.set_piece(piece, a, rows, r, c) != 0:
+            if law.set_piece(piece, a, rows, r, as_tuple(c)) != 0:
                 return STEP_TOO_COARSE, flying
         n_flagged = _vector_pass(
             lanes, n, a, piece, h * rows[r, nt.INT1], h * h * rows[r, nt.KINT1]
@@ -231,17 +248,13 @@ def _run_groups(g_lo, g_hi, normal_c, y0, ydot0, ratio, cycles, offsets, shapes,
     """Set-ups [g_lo, g_hi) and their lanes, in place (a range of :func:`threads.run_ranges`)."""
     for g in range(g_lo, g_hi):
         lo, hi = starts[g], starts[g + 1]
-        group_lanes = np.ascontiguousarray(lanes[:, lo:hi])
-        group_switches = np.zeros(hi - lo, dtype=np.int64)
-        group_flagged = np.zeros(hi - lo, dtype=np.int64)
+        group_lanes, group_switches, group_flagged = take_group(lanes, lo, hi)
         cycle, shape = periodic_tape.group_cycle(cycles, offsets, shapes, g)
         status[g] = _run_group(
             normal_c[g].copy(), y0[g], ydot0[g], ratio[g], cycle, shape, t_end, dt,
             group_lanes, group_switches, group_flagged,
         )  # fmt: skip
-        lanes[:, lo:hi] = group_lanes
-        switches[lo:hi] = group_switches
-        flagged[lo:hi] = group_flagged
+        put_group(lanes, switches, flagged, lo, group_lanes, group_switches, group_flagged)
 
 
 def run_mindlin_lanes(normal_coeffs, normal_states0, ratio, group_of_lane, forces, mu_static,

@@ -196,7 +196,7 @@ def tape_buffers(y0, ydot0):
     return start_tape(y0, ydot0), tape, work
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True)
 def _held_acceleration(t, y, v, c, flight):
     """ÿ [m/s^2] at a stage: N = 0 in flight, else the law at the stage state."""
     if flight:
@@ -221,7 +221,7 @@ def _rk4(t, h, y, v, a1, c, flight):
     return y + w * (v + 2.0 * v2 + 2.0 * v3 + v4), v + w * (a1 + 2.0 * a2 + 2.0 * a3 + a4)
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True)
 def _may_switch(h, ends0, ends1, c):
     """False when neither contact function can flip inside the step (the screening of
     :mod:`~microslip.integrators.switching`, on the end values)."""
@@ -272,7 +272,8 @@ def fill_tape(carry, c_array, t_end, dt, tape, work):
             s0[:] = 0.0
             atol[:] = 0.0
             s0[0], s0[1], s0[3] = y, v, 1.0
-            s1[:] = s0
+            for j in range(N_STATE):  # a loop: a slice copy compiles its error message
+                s1[j] = s0[j]
             s1[0], s1[1] = y1, v1
             theta, which = first_switch(
                 RK4, s0, s1, t, h, mode, c, 0.0, atol, trial, extremum, work

@@ -53,7 +53,7 @@ _GENERAL = 2  # divisions by m; y**m2 unless m2 == 2
 _BAND = 1e-12  # relative slack of the y band of a friction test (>> rounding)
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True)
 def _accelerations(y, g, scn, m2, m, im, fe, dmu, mode):
     """(ÿ, ẍ) with the bits of the model's derivatives for the paper's model.
 
@@ -73,7 +73,7 @@ def _accelerations(y, g, scn, m2, m, im, fe, dmu, mode):
     return g - r * im, (fe - dmu * r) * im
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True)
 def _vector_pass(lanes, h, buf, mode):
     """One RK4 step in every lane of a block, in place; flagged lanes keep their state.
 

@@ -91,7 +91,7 @@ def cycles(normal_coeffs, normal_states0, periods, t_end, dt):
     return np.concatenate(blocks), offsets, shapes
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True)
 def group_cycle(cycles, offsets, shapes, g):
     """(cycle, shape) of set-up g from :func:`cycles`, for :func:`repeat_rows`."""
     shape = (int(shapes[g, 0]), int(shapes[g, 1]), int(shapes[g, 2]), shapes[g, 3])

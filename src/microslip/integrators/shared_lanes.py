@@ -31,6 +31,7 @@ from microslip import _jit_cache  # noqa: F401  (registers the cache before any 
 from microslip.integrators import lane_parking as parking
 from microslip.integrators import normal_tape as nt
 from microslip.integrators import periodic_tape, threads
+from microslip.integrators.kernel import as_tuple
 from microslip.integrators.rigid_lane_law import free_piece, lane_piece
 from microslip.model.coefficients import MASS
 from microslip.model.normal import normal_force
@@ -111,6 +112,30 @@ def _active_end(lanes, n):
     return n
 
 
+@njit(cache=True)
+def take_group(lanes, lo, hi):
+    """(group lanes, switches, flagged) of the set-up whose lanes are columns [lo, hi)
+    of ``lanes``: a C-contiguous copy of those columns (every row) and zeroed counts."""
+    group = np.empty((lanes.shape[0], hi - lo))
+    for row in range(lanes.shape[0]):
+        for i in range(lo, hi):
+            group[row, i - lo] = lanes[row, i]
+    return group, np.zeros(hi - lo, dtype=np.int64), np.zeros(hi - lo, dtype=np.int64)
+
+
+@njit(cache=True)
+def put_group(lanes, switches, flagged, lo, group, group_switches, group_flagged):
+    """Write a set-up's lanes and counts (:func:`take_group`) back from column ``lo``.
+    Loops, not slice assignments: those compile numba's shape-mismatch error message
+    (string formatting, ~1.5 s of cold compile; docs/design.md)."""
+    for row in range(group.shape[0]):
+        for i in range(group.shape[1]):
+            lanes[row, lo + i] = group[row, i]
+    for i in range(group.shape[1]):
+        switches[lo + i] = group_switches[i]
+        flagged[lo + i] = group_flagged[i]
+
+
 # Row 0 as a NumPy integer: a literal 0 would compile _lanes_over_rows a second time, for
 # Literal[int](0) beside int64 (~2 s of cold compile; docs/design.md).
 FIRST_ROW = np.int64(0)
@@ -166,7 +191,7 @@ def _run_group(c, y0, ydot0, cycle, shape, t_end, dt, lanes, switches, flagged, 
     :func:`periodic_tape.cycle_rows` with period rows > 0) goes through
     :func:`_run_cycle`."""
     n = lanes.shape[1]
-    start_modes(lanes, 0, n, normal_force(0.0, y0, ydot0, c))
+    start_modes(lanes, 0, n, normal_force(0.0, y0, ydot0, as_tuple(c)))
     n_active = _active_end(lanes, n)
     if shape[0] > 0:
         return _run_cycle(cycle, shape, lanes, switches, flagged, n_active, park)
@@ -228,17 +253,13 @@ def _run_groups(g_lo, g_hi, normal_c, y0, ydot0, cycles, offsets, shapes, starts
     """Set-ups [g_lo, g_hi) and their lanes, in place (a range of :func:`threads.run_ranges`)."""
     for g in range(g_lo, g_hi):
         lo, hi = starts[g], starts[g + 1]
-        group_lanes = np.ascontiguousarray(lanes[:, lo:hi])
-        group_switches = np.zeros(hi - lo, dtype=np.int64)
-        group_flagged = np.zeros(hi - lo, dtype=np.int64)
+        group_lanes, group_switches, group_flagged = take_group(lanes, lo, hi)
         cycle, shape = periodic_tape.group_cycle(cycles, offsets, shapes, g)
         status[g] = _run_group(
             normal_c[g].copy(), y0[g], ydot0[g], cycle, shape, t_end, dt, group_lanes,
             group_switches, group_flagged, park,
         )  # fmt: skip
-        lanes[:, lo:hi] = group_lanes
-        switches[lo:hi] = group_switches
-        flagged[lo:hi] = group_flagged
+        put_group(lanes, switches, flagged, lo, group_lanes, group_switches, group_flagged)
 
 
 def run_shared(normal_coeffs, normal_states0, group_of_lane, forces, mu_static, mu_kinetic,

@@ -30,7 +30,14 @@ from numba import njit
 from microslip import _jit_cache  # noqa: F401  (registers the cache before any @njit)
 from microslip.integrators import normal_tape as nt
 from microslip.integrators import periodic_tape, threads
-from microslip.integrators.shared_lanes import LANE_STALLED, OK, raise_on_failure
+from microslip.integrators.kernel import as_tuple
+from microslip.integrators.shared_lanes import (
+    LANE_STALLED,
+    OK,
+    put_group,
+    raise_on_failure,
+    take_group,
+)
 from microslip.integrators.spring_lane_law import (
     FLIGHT,
     P_D1,
@@ -109,16 +116,16 @@ def free_piece(k, s, xi, vi, fi, force, fm, km, mu_s, mu_k):
 def starts_in_flight(c, y0, ydot0):
     """True when a set-up starts out of contact (N = 0 at t = 0): its lanes, at rest on a
     relaxed spring, start in flight; otherwise they stick."""
-    return normal_force(0.0, y0, ydot0, c) <= 0.0
+    return normal_force(0.0, y0, ydot0, as_tuple(c)) <= 0.0
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True)
 def flight_piece(a):
     """True for a tape piece in flight: its quartic P is 0 throughout."""
     return a[0] == 0.0 and a[1] == 0.0 and a[2] == 0.0 and a[3] == 0.0 and a[4] == 0.0
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True)
 def flight_step(x, v, fm, h):
     """(x, ẋ) after a piece of length h [s] in flight: f = 0, m ẍ = F."""
     return x + (h * v + 0.5 * h * h * fm), v + h * fm
@@ -225,17 +232,13 @@ def _run_groups(g_lo, g_hi, normal_c, y0, ydot0, stiffness, cycles, offsets, sha
     """Set-ups [g_lo, g_hi) and their lanes, in place (a range of :func:`threads.run_ranges`)."""
     for g in range(g_lo, g_hi):
         lo, hi = starts[g], starts[g + 1]
-        group_lanes = np.ascontiguousarray(lanes[:, lo:hi])
-        group_switches = np.zeros(hi - lo, dtype=np.int64)
-        group_flagged = np.zeros(hi - lo, dtype=np.int64)
+        group_lanes, group_switches, group_flagged = take_group(lanes, lo, hi)
         cycle, shape = periodic_tape.group_cycle(cycles, offsets, shapes, g)
         status[g] = _run_group(
             normal_c[g].copy(), y0[g], ydot0[g], stiffness[g], cycle, shape, t_end, dt,
             group_lanes, group_switches, group_flagged,
         )  # fmt: skip
-        lanes[:, lo:hi] = group_lanes
-        switches[lo:hi] = group_switches
-        flagged[lo:hi] = group_flagged
+        put_group(lanes, switches, flagged, lo, group_lanes, group_switches, group_flagged)
 
 
 def run_spring_lanes(normal_coeffs, normal_states0, stiffness, group_of_lane, forces,

@@ -68,14 +68,14 @@ _OF_RATE = np.bool_(True)
 _OF_VALUE = np.bool_(False)
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True)
 def _evaluate(which, of_rate, t, x, mode, c):
     if of_rate:
         return switching_rate(which, t, x, mode, c)
     return switching_value(which, t, x, mode, c)
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True)
 def _side(which, of_rate, value):
     if of_rate:
         return value > 0.0
@@ -167,7 +167,7 @@ def _screen(which, t, h, mode, c, x0, x1):
     return _CLEAR, g0, g1, r0, r1
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True)
 def _extremum_may_cross(towards, g0, g1, r0, r1, h):
     """For g heading towards zero at the step start (towards·ġ0 < 0): True when ġ has
     turned by the step end and the linear-rate bound lets the extremum reach zero."""
@@ -176,7 +176,7 @@ def _extremum_may_cross(towards, g0, g1, r0, r1, h):
     return not min(abs(g0), abs(g1)) > _BOUND_SAFETY * h * (abs(r0) + abs(r1))
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True)
 def two_sided_may_flip(g0, g1, r0, r1, h):
     """The screening of a two-sided switching function (CONTACT_GAP, SEPARATION: inside
     iff g > 0) from its values g0, g1 and rates ġ0, ġ1 at the ends of a step of length

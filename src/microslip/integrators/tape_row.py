@@ -50,31 +50,31 @@ def _quartic(n0, d0, nm, n1, d1):
 # The polynomial functions take the coefficients as a tuple a = (a0, ..., a4) [N]: a
 # tuple goes by value through compiled calls, an array is reference-counted at each one
 # (docs in integrators/kernel.py, "Speed").
-@njit(cache=True, inline="always")
+@njit(cache=True)
 def coefficients(tape, r):
     """The quartic's coefficients (a0, ..., a4) [N] of tape row r, as a tuple."""
     return tape[r, A0], tape[r, A1], tape[r, A2], tape[r, A3], tape[r, A4]
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True)
 def critical_points(tape, r):
     """(count, τ1, τ2, τ3) of tape row r: where P' = 0 inside the piece."""
     return int(tape[r, NCRIT]), tape[r, CRIT1], tape[r, CRIT2], tape[r, CRIT3]
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True)
 def poly(a, tau):
     """P(τ) [N] (Horner)."""
     return a[0] + tau * (a[1] + tau * (a[2] + tau * (a[3] + tau * a[4])))
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True)
 def poly_rate(a, tau):
     """dP/dτ [N]."""
     return a[1] + tau * (2.0 * a[2] + tau * (3.0 * a[3] + tau * 4.0 * a[4]))
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True)
 def integral(a, tau):
     """I(τ) = ∫₀^τ P [N]."""
     return tau * (
@@ -82,7 +82,7 @@ def integral(a, tau):
     )
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True)
 def double_integral(a, tau):
     """K(τ) = ∫₀^τ I = ∫₀^τ (τ - σ) P(σ) dσ [N]."""
     inner = a[1] / 6.0 + tau * (a[2] / 12.0 + tau * (a[3] / 20.0 + tau * a[4] / 30.0))

@@ -24,7 +24,7 @@ __all__ = [
 ]
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True, error_model="numpy")
 def elastic_force(delta, c):
     """The power law S c_n max(δ, 0)^m2 [N] of eq. (2.3) at penetration δ [m].
 
@@ -40,7 +40,7 @@ def elastic_force(delta, c):
     return c[AREA_CN] * delta**m2
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True, error_model="numpy")
 def elastic_stiffness(delta, c):
     """d(S c_n δ^m2)/dδ = m2 S c_n δ^(m2-1) [N/m] (0 for δ <= 0)."""
     if delta <= 0.0:
@@ -51,7 +51,7 @@ def elastic_stiffness(delta, c):
     return m2 * c[AREA_CN] * delta ** (m2 - 1.0)
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True, error_model="numpy")
 def contact_side_stiffness(delta, c):
     """The stiffness [N/m] seen from inside the contact: :func:`elastic_stiffness` for
     δ > 0 and, for δ <= 0, its limit as δ -> 0+: S c_n for m2 = 1, 0 for m2 > 1.

@@ -84,7 +84,7 @@ class HuntCrossley(_RatioDamping):
     kind: ClassVar[float] = HUNT_CROSSLEY
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True, error_model="numpy")
 def damped_force(elastic, gap_rate, c):
     """Unclipped N_raw [N] from the elastic force S c_n δ^m2 [N] and δ̇ [m/s]."""
     kind = c[DAMPING_KIND]
@@ -95,7 +95,7 @@ def damped_force(elastic, gap_rate, c):
     return elastic
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True, error_model="numpy")
 def damped_force_partials(elastic, stiffness, gap_rate, c):
     """(∂N_raw/∂δ [N/m], ∂N_raw/∂δ̇ [N s/m]) given the elastic force and its stiffness."""
     kind = c[DAMPING_KIND]
@@ -107,7 +107,7 @@ def damped_force_partials(elastic, stiffness, gap_rate, c):
     return stiffness, 0.0
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True, error_model="numpy")
 def can_separate_in_overlap(c):
     """True when N_raw can fall to 0 while δ > 0 (any damping with c > 0)."""
     return c[DAMPING_KIND] != NONE and c[DAMPING_COEFFICIENT] > 0.0

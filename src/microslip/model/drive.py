@@ -176,13 +176,13 @@ class PrescribedVelocity(Part):
         c[DRIVE_VELOCITY] = self.velocity
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True, error_model="numpy")
 def is_kinematic(c):
     """True with a prescribed body velocity (:class:`PrescribedVelocity`)."""
     return c[DRIVE_KIND] == KINEMATIC
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True, error_model="numpy")
 def drive_force(t, x, c):
     """Tangential drive force F(t, x) [N] on the body at time t [s], position x [m];
     0 for the kinematic drive (the body's motion is prescribed)."""
@@ -196,7 +196,7 @@ def drive_force(t, x, c):
     return 0.0
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True, error_model="numpy")
 def drive_force_rate(t, x, xdot, c):
     """dF/dt [N/s] along the motion (body velocity ``xdot`` [m/s])."""
     kind = c[DRIVE_KIND]

@@ -164,13 +164,13 @@ class PrescribedPenetration(_Harmonic):
         c[EXCITATION_MEAN] = self.mean
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True, error_model="numpy")
 def is_prescribed(c):
     """True when the penetration δ(t) is prescribed (no normal degree of freedom)."""
     return c[EXCITATION_KIND] == PRESCRIBED
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True, error_model="numpy")
 def applied_force(t, c):
     """P(t) [N] on the body, positive downward (0 unless a harmonic force)."""
     if c[EXCITATION_KIND] == HARMONIC_FORCE:
@@ -178,7 +178,7 @@ def applied_force(t, c):
     return 0.0
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True, error_model="numpy")
 def applied_force_rate(t, c):
     """dP/dt [N/s]."""
     if c[EXCITATION_KIND] == HARMONIC_FORCE:
@@ -187,7 +187,7 @@ def applied_force_rate(t, c):
     return 0.0
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True, error_model="numpy")
 def surface_motion(t, c):
     """(z [m], ż [m/s], z̈ [m/s^2]) of the slideway surface (0 unless base motion)."""
     if c[EXCITATION_KIND] == BASE_MOTION:
@@ -198,7 +198,7 @@ def surface_motion(t, c):
     return 0.0, 0.0, 0.0
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True, error_model="numpy")
 def prescribed_gap(t, c):
     """(δ [m], δ̇ [m/s], δ̈ [m/s^2]) of the prescribed penetration δ_m + Δ cos ωt."""
     w = c[EXCITATION_OMEGA]

@@ -132,20 +132,20 @@ class Stribeck(_TwoCoefficients):
         c[STRIBECK_EXPONENT] = self.exponent
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True, error_model="numpy")
 def friction_limit(normal: float, c: np.ndarray) -> float:
     """Largest friction force the contact transmits in stick, μ_s N [N] (eq. 2.2),
     for the normal force ``normal`` = N >= 0 [N]."""
     return c[MU_STATIC] * normal
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True, error_model="numpy")
 def friction_limit_rate(normal_rate: float, c: np.ndarray) -> float:
     """d(μ_s N)/dt [N/s] from dN/dt [N/s] along the motion."""
     return c[MU_STATIC] * normal_rate
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True, error_model="numpy")
 def kinetic_coefficient(speed: float, c: np.ndarray) -> float:
     """μ [-] while sliding at ``speed`` = |v| [m/s]: μ_k, or Stribeck's μ(|v|)."""
     if c[FRICTION_KIND] == STRIBECK:

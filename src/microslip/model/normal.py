@@ -11,10 +11,11 @@ Every path (event and rk4 integration, the batched kernel, the steady state, sho
 and continuation) evaluates the normal force through these functions. They depend on
 the normal state (t, y, ẏ) only: the normal motion never depends on the tangential one.
 
-They are inlined into numba's IR where they are called: the right-hand sides of the
-steps, which compute N once and pass it on (:func:`acceleration_from_force`). The
-switching functions, which evaluate them a dozen times over, call them through compiled
-boundaries instead (:mod:`microslip.model.system`, docs/design.md).
+They are compiled functions, taking the coefficients as a tuple; LLVM inlines them into
+the right-hand sides of the steps, which compute N once and pass it on
+(:func:`acceleration_from_force`). The switching functions, which evaluate them a dozen
+times over, call them through compiled boundaries (:mod:`microslip.model.system`;
+docs/design.md, "Compile time").
 """
 
 from __future__ import annotations
@@ -44,7 +45,7 @@ __all__ = [
 ]
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True, error_model="numpy")
 def gap(t, y, ydot, c):
     """(δ [m], δ̇ [m/s], z̈ [m/s^2]): penetration, its rate, and the surface acceleration.
 
@@ -59,7 +60,7 @@ def gap(t, y, ydot, c):
     return y - z, ydot - zdot, zddot
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True, error_model="numpy")
 def raw_normal_force(t, y, ydot, c):
     """N_raw [N], the unclipped contact law at (t, y, ẏ); meaningful while δ > 0.
 
@@ -70,7 +71,7 @@ def raw_normal_force(t, y, ydot, c):
     return damped_force(elastic_force(delta, c), delta_rate, c)
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True, error_model="numpy")
 def normal_force(t, y, ydot, c):
     """Compressive normal force N >= 0 [N] (the paper's |R|, eq. 2.3, with damping)."""
     delta, delta_rate, _ = gap(t, y, ydot, c)
@@ -80,7 +81,7 @@ def normal_force(t, y, ydot, c):
     return n if n > 0.0 else 0.0
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True, error_model="numpy")
 def acceleration_from_force(t, normal, c):
     """ÿ [m/s^2] given the normal force N [N] at t: g + P(t)/m - N/m (eq. 2.4 with
     excitation); δ̈(t) if prescribed (N is then not used)."""
@@ -91,13 +92,13 @@ def acceleration_from_force(t, normal, c):
     return c[GRAVITY] + (applied_force(t, c) - normal) / c[MASS]
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True, error_model="numpy")
 def normal_acceleration(t, y, ydot, c):
     """ÿ [m/s^2]: g + P(t)/m - N/m (eq. 2.4 with excitation); δ̈(t) if prescribed."""
     return acceleration_from_force(t, normal_force(t, y, ydot, c), c)
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True, error_model="numpy")
 def normal_force_partials(t, y, ydot, c):
     """(∂N/∂y [N/m], ∂N/∂ẏ [N s/m]); 0 out of contact and where N is clipped.
 
@@ -114,7 +115,7 @@ def normal_force_partials(t, y, ydot, c):
     return damped_force_partials(elastic, elastic_stiffness(delta, c), delta_rate, c)
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True, error_model="numpy")
 def normal_force_rate(t, y, ydot, c):
     """dN/dt [N/s] along the motion (0 out of contact or while clipped)."""
     delta, delta_rate, third = gap(t, y, ydot, c)

@@ -52,12 +52,12 @@ from microslip.model.tangential import is_compliant, tangential_stiffness
 __all__ = ["GRAZING", "apply_switch", "initial_mode"]
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True)
 def _flight_mode(s):
     return -FLIGHT if s[XDOT] < 0.0 else FLIGHT
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True)
 def _lift_off(s):
     """(mode, event) of a compliant contact point leaving contact: the spring relaxes
     (f = 0, u = x, in place in ``s``) and the point flies with the body."""
@@ -66,7 +66,7 @@ def _lift_off(s):
     return _flight_mode(s), CONTACT_LOST
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True)
 def _drop_to_kinetic_limit(t, s, direction, normal, c):
     """A compliant contact point starts to slip in ``direction``: its spring force drops
     to the kinetic limit μ_k N at once and the massless point jumps as the spring
@@ -100,7 +100,7 @@ def initial_mode(t, s, c):
     return _rigid_direction(t, s, normal, c) + offset
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True)
 def _rigid_direction(t, s, normal, c):
     """Slip direction of a body on a rigid contact at a state (eq. 2.2): sgn ẋ when it
     moves; at rest stick iff |F| <= μ_s N, else slip towards F."""

@@ -86,7 +86,7 @@ def _derivatives_call(t, s, mode, c):
     return derivatives(t, s, mode, c)
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True)
 def separation_value(delta, delta_rate, c):
     """SEPARATION's value [N]: N_raw at (δ [m], δ̇ [m/s]) with the elastic part floored
     (sign-floored, so that it is > 0 in contact)."""
@@ -96,7 +96,7 @@ def separation_value(delta, delta_rate, c):
     return damped_force(elastic, delta_rate, c)
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True)
 def _rate_with_stiffness(delta, stiffness, delta_rate, delta_accel, c):
     """dN_raw/dt [N/s] along the motion, the elastic part floored, given δ [m], the
     elastic stiffness [N/m], δ̇ [m/s] and δ̈ [m/s^2]."""
@@ -107,13 +107,13 @@ def _rate_with_stiffness(delta, stiffness, delta_rate, delta_accel, c):
     return d_delta * delta_rate + d_rate * delta_accel
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True)
 def separation_rate(delta, delta_rate, delta_accel, c):
     """SEPARATION's rate [N/s] along the motion, given δ [m], δ̇ [m/s], δ̈ [m/s^2]."""
     return _rate_with_stiffness(delta, elastic_stiffness(delta, c), delta_rate, delta_accel, c)
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True)
 def contact_side_rate(delta, delta_rate, delta_accel, c):
     """dN_raw/dt [N/s] seen from inside the contact: :func:`separation_rate`, with the
     stiffness's limit as δ -> 0+ where δ <= 0
@@ -122,7 +122,7 @@ def contact_side_rate(delta, delta_rate, delta_accel, c):
     return _rate_with_stiffness(delta, contact_side_stiffness(delta, c), delta_rate, delta_accel, c)
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True)
 def switch_active(which, mode, c):
     """True when switching function ``which`` can change anything in ``mode``."""
     if which == CONTACT_GAP:
@@ -135,7 +135,7 @@ def switch_active(which, mode, c):
     return direction == 1.0 or direction == -1.0
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True)
 def inside(which, value):
     """True on the "inside" side of switching function ``which`` (contact, stick holds,
     sliding on). The stick margin may be exactly 0 while stick holds (|F| <= μN, 2.2);
@@ -145,7 +145,7 @@ def inside(which, value):
     return value > 0.0
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True)
 def holds_only_inside(which):
     """True when the mode that activates ``which`` exists only on its inside (stick
     margin, sliding speed): a value on the boundary at a step start is a mode entered
@@ -154,7 +154,7 @@ def holds_only_inside(which):
     return which == STICK_MARGIN or which == SLIDING_SPEED
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True)
 def _held_force(t, s, c):
     """The force the interface holds in stick [N]: the drive F(t, x) on a rigid
     contact, the spring force f on a compliant one."""
@@ -163,7 +163,7 @@ def _held_force(t, s, c):
     return drive_force(t, s[X], c)
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True)
 def _interface_velocity(t, s, mode, c):
     """Velocity [m/s] of the interface in ``mode``: ẋ (rigid) or u̇ (compliant)."""
     if is_compliant(c):
@@ -179,7 +179,7 @@ def _interface_velocity(t, s, mode, c):
 _RATE_STEP = 1e-7
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True)
 def _contact_point_acceleration(t, s, mode, c):
     """ü [m/s^2] of a sliding compliant contact point, by a central difference along
     the flow of :func:`derivatives` (see ``_RATE_STEP``)."""

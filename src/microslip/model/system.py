@@ -187,10 +187,10 @@ def is_paper_model(c):
 # Compile boundaries. The switching functions evaluate the normal force a dozen times
 # over; copying each evaluation (the contact, damping and excitation laws inside) into
 # numba's IR made one compile of switching_rate take over a minute. They call these
-# compiled functions instead, each of which inlines the laws once. The arguments are
-# scalars and the coefficient tuple, so a call costs no reference counting, and the values
-# are the same bits. The right-hand side (derivatives) keeps the laws inlined: it is the
-# steps' hot loop (docs/design.md, "The compiled form").
+# compiled functions instead. The arguments are scalars and the coefficient tuple, so a
+# call costs no reference counting, and the values are the same bits. The right-hand
+# side (derivatives) is inlined into the steps: it is their hot loop (docs/design.md,
+# "The compiled form").
 @njit(cache=True, error_model="numpy")
 def normal_force_call(t, y, ydot, c):
     """:func:`~microslip.model.normal.normal_force` [N] behind a compiled call."""

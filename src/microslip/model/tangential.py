@@ -110,13 +110,13 @@ class MindlinSpring(Part):
         c[TANGENTIAL_STIFFNESS] = self.ratio
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True, error_model="numpy")
 def is_compliant(c):
     """True with a compliant tangential contact (a contact point and a spring)."""
     return c[TANGENTIAL_KIND] != RIGID
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True, error_model="numpy")
 def tangential_stiffness(delta, c):
     """k_t [N/m] at the penetration ``delta`` = δ [m] (0 out of contact, δ <= 0)."""
     if delta <= 0.0:
