@@ -26,10 +26,10 @@ WORK_ROWS = 12
 # it, and are compiled with error_model="numpy" (no ZeroDivisionError branch), as are
 # the laws the model calls (model/normal.py and its parts), which take scalars and the
 # coefficient tuple: a step then passes no array to a compiled call and has no raising
-# branch, so numba drops the reference counting of its array arguments. The divisions are by the mass (> 0) and, in the error
-# norms, by atol_i + rtol·max(|s_i|, |out_i|); with atol_i = 0 and a component that
-# stays exactly 0 the norm is NaN and the adaptive loop rejects the step (it raised
-# ZeroDivisionError before).
+# branch, so numba drops the reference counting of its array arguments. The divisions
+# are by the mass (> 0) and, in the error norms, by atol_i + rtol·max(|s_i|, |out_i|);
+# with atol_i = 0 and a component that stays exactly 0 the norm is NaN and the adaptive
+# loop rejects the step (it raised ZeroDivisionError before).
 
 
 @njit(cache=True, error_model="numpy")
