@@ -21,6 +21,8 @@ import math
 from numba import njit
 
 from microslip import _jit_cache  # noqa: F401  (registers the cache before any @njit)
+
+# The Dormand–Prince 5(4) tableau: _dp54 below is its arithmetic on the two normal states.
 from microslip.integrators.dp54_tableau import (
     _A21,
     _A31,
@@ -43,8 +45,6 @@ from microslip.integrators.dp54_tableau import (
     _B5,
     _B6,
 )
-
-# The Dormand–Prince 5(4) tableau: _dp54 below is its arithmetic on the two normal states.
 from microslip.integrators.kernel import as_tuple
 from microslip.model.coefficients import AREA_CN, EXPONENT, GRAVITY, MASS
 from microslip.model.normal import normal_acceleration
