@@ -36,6 +36,7 @@ from numba import njit
 from microslip import _jit_cache  # noqa: F401  (registers the cache before any @njit)
 from microslip.integrators import normal_tape as nt
 from microslip.integrators import periodic_tape, threads
+from microslip.integrators.kernel import as_tuple
 from microslip.integrators.lane_parking import after_periods, starts_as_before
 from microslip.integrators.rigid_lane_law import free_piece, lane_piece
 from microslip.integrators.shared_lanes import (
@@ -342,7 +343,7 @@ def run_shared_cuda(normal_coeffs, normal_states0, group_of_lane, forces, mu_sta
         return unpack_lanes(lanes, order, none, none)
     for g in range(n_groups):
         y0, ydot0 = normal_states0[g, 0], normal_states0[g, 1]
-        n0 = normal_force(0.0, y0, ydot0, normal_coeffs[g])
+        n0 = normal_force(0.0, y0, ydot0, as_tuple(normal_coeffs[g]))  # the tuple form
         start_modes(lanes, starts[g], starts[g + 1], n0)
     lane_group = np.repeat(np.arange(n_groups), np.diff(starts))
     cycles = periodic_tape.cycles(normal_coeffs, normal_states0, periods, float(t_end), float(dt))
