@@ -30,10 +30,6 @@ from microslip.integrators import (
 )
 from microslip.integrators.batched import simulate_batch
 from microslip.model import (
-    contact,
-    damping,
-    excitation,
-    normal,
     switches,
     switching_functions,
     system,
@@ -61,22 +57,6 @@ DISPATCHERS = {
     "_run_rows": mindlin_lanes._run_rows,
     "_copy_lane": lane_parking._copy_lane,
     "_write": kernel._write,
-}
-
-# The normal laws, compiled functions that every path calls (docs/design.md, "Compile
-# time"): each must be compiled for the coefficient tuple alone. A path that passes the
-# coefficient array compiles every law beneath a second time.
-LAWS = {
-    "elastic_force": contact.elastic_force,
-    "elastic_stiffness": contact.elastic_stiffness,
-    "damped_force": damping.damped_force,
-    "damped_force_partials": damping.damped_force_partials,
-    "applied_force": excitation.applied_force,
-    "gap": normal.gap,
-    "normal_force": normal.normal_force,
-    "normal_acceleration": normal.normal_acceleration,
-    "normal_force_rate": normal.normal_force_rate,
-    "normal_acceleration_call": system.normal_acceleration_call,
 }
 
 
@@ -169,11 +149,3 @@ def _run_the_lane_kernels(params):
     for tangential in (ms.TangentialSpring(params.contact_stiffness), ms.MindlinSpring(0.8235)):
         model = ms.Model(params, tangential=tangential)
         ms.sweep(model, None, force=[0.3], amplitude=[0.0, 1e-7], method="time", duration=4e-3)
-
-
-def test_the_laws_are_compiled_for_the_coefficient_tuple_alone():
-    _run_the_lane_kernels(ms.Parameters())
-    ms.simulate(ms.Parameters(), force=0.5, amplitude=1e-7, duration=1e-3)
-    for name, dispatcher in LAWS.items():
-        arrays = [sig for sig in dispatcher.signatures if isinstance(sig[-1], types.Array)]
-        assert arrays == [], f"{name} is compiled for a coefficient array: {arrays}"

@@ -38,7 +38,7 @@ from microslip.integrators.dop853_tableau import N_STAGES
 from microslip.integrators.dop853_tableau import A as _A
 from microslip.integrators.dop853_tableau import B as _B
 from microslip.integrators.dop853_tableau import C as _C
-from microslip.model.coefficients import GRAVITY, MASS, STATIC_DEFLECTION
+from microslip.model.coefficients import GRAVITY, MASS, STATIC_DEFLECTION, as_tuple
 from microslip.model.contact import elastic_force, elastic_stiffness
 from microslip.model.damping import can_separate_in_overlap, damped_force_partials
 from microslip.model.excitation import applied_force
@@ -259,7 +259,7 @@ def in_contact(t, y, yd, c):
 
 
 @njit(cache=True, nogil=True)
-def propagate(c, y_start, yd_start, t0, duration, n_steps, record, variational):
+def propagate(coefficients, y_start, yd_start, t0, duration, n_steps, record, variational):
     """Integrate the normal motion from (t0, y, ẏ) over ``duration`` [s] in n_steps steps.
 
     Returns (state (2,) at t0 + duration, Φ (2, 2), nodes (4, n) rows t, y, ẏ and
@@ -268,6 +268,7 @@ def propagate(c, y_start, yd_start, t0, duration, n_steps, record, variational):
     when ``variational`` (NaN otherwise: a transient needs the state alone, and skipping
     Φ does not change its bits).
     """
+    c = as_tuple(coefficients)  # the laws' one compiled form (docs/design.md)
     dim = _DIM if variational else _STATE
     s = np.zeros(_DIM)
     s[0] = y_start

@@ -22,6 +22,7 @@ from numba import njit
 
 from microslip import _jit_cache  # noqa: F401  (registers the cache before any @njit)
 from microslip.analysis.periodic import orbit_state
+from microslip.model.coefficients import as_tuple
 from microslip.model.contact import elastic_stiffness
 from microslip.model.normal import gap, normal_force, normal_force_rate
 
@@ -49,7 +50,8 @@ CLOSED_FORM_PIECES = 32  # uniform pieces per period of a closed-form N(t)
 @njit(cache=True)
 def normal_at(t, src):
     """(N [N], Ṅ [N/s], K [N/m]) at time t [s]; all 0 out of contact."""
-    kind, tn, yn, vn, a0, a1, c = src
+    kind, tn, yn, vn, a0, a1, coefficients = src
+    c = as_tuple(coefficients)  # the laws' one compiled form (docs/design.md)
     y, yd = 0.0, 0.0
     if kind == TABLE:
         y, yd = orbit_state(t, tn, yn, vn, a0, a1)

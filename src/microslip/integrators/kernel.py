@@ -20,14 +20,13 @@ from __future__ import annotations
 
 import numpy as np
 from numba import njit
-from numba.np.unsafe.ndarray import to_fixed_tuple
 
 from microslip import _jit_cache  # noqa: F401  (registers the cache before any @njit)
 from microslip.integrators.dop853 import dop853_step
 from microslip.integrators.methods import CONTROLLER_EXPONENT, RK4, WORK_ROWS, advance
 from microslip.integrators.steppers import rk4_step
 from microslip.integrators.switching import NO_SWITCH, first_switch, may_switch
-from microslip.model.coefficients import SIZE
+from microslip.model.coefficients import as_tuple
 from microslip.model.switches import apply_switch
 from microslip.model.system import NO_EVENT, state_tuple
 
@@ -48,12 +47,6 @@ MAX_SWITCHES_PER_STEP = 64
 def carry_size(n_state: int) -> int:
     """Length of the carry vector for a state of ``n_state`` values."""
     return C_STATE + n_state
-
-
-@njit(cache=True)
-def as_tuple(c):
-    """The coefficient vector as a tuple of SIZE floats (laws index it as an array)."""
-    return to_fixed_tuple(c, SIZE)
 
 
 @njit(cache=True)

@@ -11,7 +11,10 @@ See docs/design.md for the parts and the state layout.
 from __future__ import annotations
 
 import numpy as np
+from numba import njit
+from numba.np.unsafe.ndarray import to_fixed_tuple
 
+from microslip import _jit_cache  # noqa: F401  (registers the cache before any @njit)
 from microslip.model.parameters import Parameters
 
 MASS = 0  # m [kg]
@@ -54,3 +57,12 @@ def pack(params: Parameters, force: float) -> np.ndarray:
     c[FORCE] = force
     c[STATIC_DEFLECTION] = params.static_deflection
     return c
+
+
+@njit(cache=True)
+def as_tuple(c):
+    """The coefficient vector ``c`` as a tuple of SIZE floats, the form every law takes:
+    a tuple goes by value through compiled calls, where an array is reference-counted at
+    each one, and a law compiled for one form is not compiled again for the other
+    (docs/design.md, "Compile time")."""
+    return to_fixed_tuple(c, SIZE)

@@ -30,6 +30,7 @@ from microslip.model.coefficients import (
     MU_STATIC,
     STRIBECK_EXPONENT,
     STRIBECK_VELOCITY,
+    as_tuple,
 )
 from microslip.model.parameters import FIELD_RANGES, Parameters
 from microslip.model.parts import Part, part_field
@@ -158,9 +159,10 @@ def kinetic_coefficient(speed: float, c: np.ndarray) -> float:
 def kinetic_coefficients(speeds: np.ndarray, c: np.ndarray) -> np.ndarray:
     """μ [-] at each sliding speed of ``speeds`` [m/s] (:func:`kinetic_coefficient` in a
     compiled loop: a map's velocity axis costs one call, not one per speed)."""
+    laws = as_tuple(c)
     out = np.empty(speeds.shape[0])
     for i in range(speeds.shape[0]):
-        out[i] = kinetic_coefficient(speeds[i], c)
+        out[i] = kinetic_coefficient(speeds[i], laws)
     return out
 
 

@@ -7,6 +7,7 @@ import numpy as np
 from numba import njit
 
 from microslip import _jit_cache  # noqa: F401  (registers the cache before any @njit)
+from microslip.model.coefficients import as_tuple
 from microslip.model.drive import drive_force, is_kinematic
 from microslip.model.friction import friction_limit, kinetic_coefficient
 from microslip.model.normal import gap, normal_force, raw_normal_force
@@ -46,9 +47,10 @@ def full_states(states: np.ndarray) -> np.ndarray:
 
 
 @njit(cache=True)
-def normal_samples(t, y, ydot, c):
+def normal_samples(t, y, ydot, coefficients):
     """(N [N], N_raw [N], δ [m]) at the samples (t[k], y[k], ẏ[k]), from the composed
     normal law: in contact iff δ > 0 and N_raw > 0."""
+    c = as_tuple(coefficients)  # the laws' one compiled form (docs/design.md)
     n = t.shape[0]
     force = np.empty(n)
     raw = np.empty(n)
@@ -61,13 +63,14 @@ def normal_samples(t, y, ydot, c):
 
 
 @njit(cache=True)
-def interface_samples(t, states, modes, c):
+def interface_samples(t, states, modes, coefficients):
     """(F [N], F_t [N], μ_s N [N]) at the samples: the drive force on the body, the
     friction force on the body signed as in (2.5) (m ẍ = F + F_t) and the static limit.
 
     Rigid: sliding F_t = -μ(|ẋ|) N sgn ẋ, stick F_t = -F. Compliant: F_t = -f (the
     spring force). Kinematic drive: F = -F_t, the force that keeps ẋ = v.
     """
+    c = as_tuple(coefficients)  # the laws' one compiled form (docs/design.md)
     n = t.shape[0]
     drive = np.empty(n)
     friction = np.empty(n)
