@@ -25,7 +25,8 @@ warnings.simplefilter("ignore")
 p = ms.Parameters()
 forced = ms.Model(p, damping=ms.Viscous(0.05), excitation=ms.HarmonicForce(2.0, 1400.0))
 # The steady map (orbit tables), the time map on a repeated and a stepped tape, the
-# spring and Mindlin lanes, simulate and its samples, a periodic orbit (the flow).
+# spring and Mindlin lanes, simulate and its samples, a periodic orbit (the flow), the
+# effective friction.
 ms.velocity_map(p, forces=[0.2, 0.6], amplitudes=[0.0, 1e-7])
 ms.velocity_map(p, forces=[0.2, 0.6], amplitudes=[0.0, 1e-7], method="time", duration=4e-3)
 ms.sweep(forced, {"excitation.amplitude": [1.0]}, force=[0.3], method="time", duration=1e-3)
@@ -35,6 +36,16 @@ for tangential in (ms.TangentialSpring(p.contact_stiffness), ms.MindlinSpring(0.
 run = ms.simulate(forced, force=0.5, duration=1e-3)
 run.N, run.friction_limit, run.drive_force
 ms.forced_response(forced, frequencies=(1300.0, 1400.0), max_points=3)
+# The effective friction on a free vibration (its orbit table) and on a prescribed
+# penetration (the closed-form orbit), through the normal pieces.
+drive = ms.PrescribedVelocity(1e-4)
+free = ms.Model(p, tangential=ms.TangentialSpring(7e7), drive=drive)
+ms.effective_friction_map(free, [1e-5, 1e-3], "amplitude", [1e-7])
+punch = ms.Model(
+    ms.Parameters(m2=1.0, c_n=1e8, area=1.0), tangential=ms.TangentialSpring(1e6), drive=drive,
+    excitation=ms.PrescribedPenetration(mean=1e-7, amplitude=0.5e-7, frequency=1000.0),
+)
+ms.effective_friction(punch)
 laws = {
     "elastic_force": contact.elastic_force,
     "elastic_stiffness": contact.elastic_stiffness,

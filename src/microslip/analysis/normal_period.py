@@ -23,6 +23,7 @@ from microslip.analysis.normal_pieces import (
     build_pieces,
 )
 from microslip.integrators.threads import thread_count
+from microslip.model.coefficients import as_tuple
 from microslip.model.composition import Model
 from microslip.model.excitation import BaseMotion, HarmonicForce, PrescribedPenetration
 from microslip.model.normal import normal_acceleration, normal_force
@@ -74,9 +75,10 @@ def _free_table(normal: Model, amplitude: float):
 @njit(cache=True, nogil=True)
 def _accelerations(y, c):
     """ÿ [m/s^2] of the free normal motion (2.4) at the nodes y [m]."""
+    laws = as_tuple(c)
     out = np.empty(y.shape[0])
     for i in range(y.shape[0]):
-        out[i] = normal_acceleration(0.0, y[i], 0.0, c)
+        out[i] = normal_acceleration(0.0, y[i], 0.0, laws)
     return out
 
 
@@ -130,7 +132,7 @@ def normal_cycle(
     c = normal.pack(0.0)
     if isinstance(excitation, PrescribedPenetration):
         if excitation.amplitude == 0.0:
-            return NormalCycle(math.nan, float(normal_force(0.0, 0.0, 0.0, c)))
+            return NormalCycle(math.nan, float(normal_force(0.0, 0.0, 0.0, as_tuple(c))))
         kind, base = CLOSED_FORM, np.linspace(0.0, excitation.period, CLOSED_FORM_PIECES + 1)
         tables = (np.empty(0),) * 5
         period = excitation.period
@@ -149,7 +151,8 @@ def normal_cycle(
         period, t, y, yd, accel = _free_table(normal, amplitude)
         kind, base = TABLE, _coarse_base(t, y)
         tables = (t, y, yd, accel[:-1].copy(), accel[1:].copy())
-    source = (kind, *(np.ascontiguousarray(a, dtype=float) for a in tables), c)
+    # The coefficients as the tuple the laws take (normal_pieces.normal_at reads them).
+    source = (kind, *(np.ascontiguousarray(a, dtype=float) for a in tables), as_tuple(c))
     pieces, rate_max, ratio_max = build_pieces(np.ascontiguousarray(base, dtype=float), source)
     mean = float(pieces[:, INT_N].sum()) / period
     return NormalCycle(period, mean, kind, source, pieces, float(rate_max), float(ratio_max))

@@ -8,9 +8,10 @@ geometrically towards it; it stores per piece the Gauss–Legendre integrals of 
 the contact stiffness, and the end values (one-sided at a switch).
 
 ``src`` = (kind, t, y, ẏ, ÿ+, ÿ-, c): ``CLOSED_FORM`` (a prescribed penetration, N(t)
-from the coefficient vector c; the tables are unused) or ``TABLE`` (quintic Hermite
-nodes of a periodic orbit, :func:`microslip.analysis.periodic.orbit_state`). The
-stiffness evaluated is the elastic contact stiffness K(δ) = m2 S c_n δ^(m2-1).
+from the coefficients c; the tables are unused) or ``TABLE`` (quintic Hermite nodes of
+a periodic orbit, :func:`microslip.analysis.periodic.orbit_state`); c is the tuple the
+laws take (``model.coefficients.as_tuple``), built once with ``src``. The stiffness
+evaluated is the elastic contact stiffness K(δ) = m2 S c_n δ^(m2-1).
 """
 
 from __future__ import annotations
@@ -22,7 +23,6 @@ from numba import njit
 
 from microslip import _jit_cache  # noqa: F401  (registers the cache before any @njit)
 from microslip.analysis.periodic import orbit_state
-from microslip.model.coefficients import as_tuple
 from microslip.model.contact import elastic_stiffness
 from microslip.model.normal import gap, normal_force, normal_force_rate
 
@@ -50,8 +50,7 @@ CLOSED_FORM_PIECES = 32  # uniform pieces per period of a closed-form N(t)
 @njit(cache=True)
 def normal_at(t, src):
     """(N [N], Ṅ [N/s], K [N/m]) at time t [s]; all 0 out of contact."""
-    kind, tn, yn, vn, a0, a1, coefficients = src
-    c = as_tuple(coefficients)  # the laws' one compiled form (docs/design.md)
+    kind, tn, yn, vn, a0, a1, c = src
     y, yd = 0.0, 0.0
     if kind == TABLE:
         y, yd = orbit_state(t, tn, yn, vn, a0, a1)

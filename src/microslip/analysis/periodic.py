@@ -35,6 +35,7 @@ from microslip.analysis.normal_flow import (
     propagate_each,
 )
 from microslip.model.capabilities import require
+from microslip.model.coefficients import as_tuple
 from microslip.model.composition import Model, as_model
 from microslip.model.excitation import BaseMotion, HarmonicForce, PrescribedPenetration
 from microslip.model.normal import normal_force, prescribed_gap
@@ -239,7 +240,7 @@ def build_orbit(c, period, n_steps, s) -> PeriodicOrbit:
 
 def _prescribed_orbit(model: Model, n_steps: int) -> PeriodicOrbit:
     """The closed-form orbit of a prescribed penetration δ(t) = δ_m + Δ cos ωt (y ≡ δ)."""
-    c = model.pack(0.0)
+    c = as_tuple(model.pack(0.0))  # the laws' one compiled form (docs/design.md)
     ex = model.excitation
     period = ex.period
     t = np.linspace(0.0, period, 4 * n_steps + 1)

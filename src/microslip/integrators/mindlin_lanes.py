@@ -142,21 +142,23 @@ def _run_group(c, y0, ydot0, ratio, cycle, shape, t_end, dt, lanes, switches, fl
     every period, and set_piece is most of a set-up's own cost."""
     n = lanes.shape[1]
     flying = start_lanes(c, y0, ydot0, lanes, n)
+    laws = as_tuple(c)  # the coefficients as the pieces' laws take them, once per set-up
     if shape[0] > 0:
         period_rows, tail_rows, repeats, _period = shape
         total = period_rows + tail_rows
         table = np.zeros((total, law.PIECE))
-        coarse = _piece_table(table, cycle, total, c, ratio)
+        coarse = _piece_table(table, cycle, total, laws, ratio)
         for _ in range(repeats):
             status, flying = _run_rows(
-                lanes, cycle, FIRST_ROW, period_rows, table, CACHED, coarse, c, flying, switches,
-                flagged,
+                lanes, cycle, FIRST_ROW, period_rows, table, CACHED, coarse, laws, flying,
+                switches, flagged,
             )  # fmt: skip
             if status != OK:
                 return status
         return _run_rows(
-            lanes, cycle, period_rows, total, table, CACHED, coarse, c, flying, switches, flagged
-        )[0]
+            lanes, cycle, period_rows, total, table, CACHED, coarse, laws, flying, switches,
+            flagged,
+        )[0]  # fmt: skip
     piece = np.zeros((1, law.PIECE))  # written row by row, as the tape is filled
     law.set_setup(piece[0], c[MASS], c[GRAVITY], ratio)
     carry, tape, work = nt.tape_buffers(y0, ydot0)
@@ -165,8 +167,8 @@ def _run_group(c, y0, ydot0, ratio, cycle, shape, t_end, dt, lanes, switches, fl
         if tape_status > 1:
             return tape_status
         status, flying = _run_rows(
-            lanes, tape, FIRST_ROW, rows, piece, NOT_CACHED, NO_COARSE_ROW, c, flying, switches,
-            flagged,
+            lanes, tape, FIRST_ROW, rows, piece, NOT_CACHED, NO_COARSE_ROW, laws, flying,
+            switches, flagged,
         )  # fmt: skip
         if status != OK:
             return status
@@ -175,17 +177,17 @@ def _run_group(c, y0, ydot0, ratio, cycle, shape, t_end, dt, lanes, switches, fl
 
 
 @njit(cache=True)
-def _piece_table(table, rows, n_rows, c, ratio):
+def _piece_table(table, rows, n_rows, laws, ratio):
     """Write the piece of each contact row r < ``n_rows`` of ``rows`` into table[r]
-    (its set-up's slots and law.set_piece's); returns the first row too coarse for the
-    tangential oscillation (θ > MAX_THETA), or ``n_rows``."""
+    (its set-up's slots and law.set_piece's; ``laws`` the coefficient tuple); returns the
+    first row too coarse for the tangential oscillation (θ > MAX_THETA), or ``n_rows``."""
     coarse = n_rows
     for r in range(n_rows):
-        law.set_setup(table[r], c[MASS], c[GRAVITY], ratio)
+        law.set_setup(table[r], laws[MASS], laws[GRAVITY], ratio)
         a = nt.coefficients(rows, r)
         if flight_piece(a):
             continue
-        if law.set_piece(table[r], a, rows, r, as_tuple(c)) != 0 and coarse == n_rows:
+        if law.set_piece(table[r], a, rows, r, laws) != 0 and coarse == n_rows:
             coarse = r
     return coarse
 
@@ -198,12 +200,13 @@ NO_COARSE_ROW = np.int64(-1)
 
 
 @njit(cache=True)
-def _run_rows(lanes, rows, lo, hi, pieces, cached, coarse, c, flying, switches, flagged):
+def _run_rows(lanes, rows, lo, hi, pieces, cached, coarse, laws, flying, switches, flagged):
     """The lanes over tape rows [lo, hi) of ``rows``, in place: a row in flight moves
     them all (:func:`~microslip.integrators.spring_lanes.fly`), a contact row takes the
     vector pass and the law for the lanes it flags. A contact row's piece is
     pieces[r] where ``cached`` (``coarse``: the first row too coarse), else written into
-    pieces[0] here. Returns (status, whether the lanes are in flight)."""
+    pieces[0] here from ``laws``, the coefficient tuple. Returns (status, whether the
+    lanes are in flight)."""
     n = lanes.shape[1]
     for r in range(lo, hi):
         h = rows[r, nt.H]
@@ -219,7 +222,7 @@ def _run_rows(lanes, rows, lo, hi, pieces, cached, coarse, c, flying, switches, 
             piece = pieces[r]
         else:
             piece = pieces[0]
-            if law.set_piece(piece, a, rows, r, as_tuple(c)) != 0:
+            if law.set_piece(piece, a, rows, r, laws) != 0:
                 return STEP_TOO_COARSE, flying
         n_flagged = _vector_pass(
             lanes, n, a, piece, h * rows[r, nt.INT1], h * h * rows[r, nt.KINT1]
