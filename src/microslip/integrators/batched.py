@@ -68,13 +68,20 @@ from numba import njit
 from microslip import _jit_cache  # noqa: F401  (registers the cache before any @njit)
 from microslip.integrators import paper_pass as pp
 from microslip.integrators import threads
-from microslip.integrators.kernel import MAX_SWITCHES_PER_STEP, as_tuple, copy_state, piece_end
+from microslip.integrators.kernel import (
+    MAX_SWITCHES_PER_STEP,
+    as_tuple,
+    copy_state,
+    graded_target,
+    piece_end,
+)
 from microslip.integrators.methods import RK4, WORK_ROWS
 from microslip.integrators.steppers import rk4_step
 from microslip.integrators.switching import NO_SWITCH, may_switch
 from microslip.model.coefficients import SIZE
 from microslip.model.samples import full_states
 from microslip.model.switches import apply_switch, initial_mode
+from microslip.model.switching_functions import graded_switch
 from microslip.model.system import N_STATE, X, slip_directions, state_tuple
 
 __all__ = ["DEFAULT_BLOCK", "BatchResult", "simulate_batch", "time_grid"]
@@ -112,20 +119,29 @@ def time_grid(t_end, dt):
 
 
 @njit(cache=True)
-def _scalar_step(s, mode, t, target, c, s1, have_s1, piece, trial, extremum, work, atol):
+def _scalar_step(s, mode, t, target, dt, graded_from, c, s1, have_s1, piece, trial, extremum,
+                 work, atol):  # fmt: skip
     """integrate_chunk's RK4 loop body from (t, s) up to the grid point ``target``.
 
     ``s`` (updated in place) is the lane's state; ``s1``: when ``have_s1``,
     rk4_step(s, t, target - t, mode, c), already taken (with the same bits) by the
-    vector pass; it is not recomputed. Returns (mode, time reached, switches, stalled).
+    vector pass; it is not recomputed. ``graded_from``: the time [s] of the graded
+    switch the lane is leaving by graded steps (kernel.graded_target), NaN if none.
+    Returns (mode, time reached, switches, stalled, graded_from).
     """
     switches = 0
     reuse = have_s1
     while t < target:
-        h = target - t
-        if reuse:
+        end = target
+        if graded_from == graded_from:  # leaving a graded switch: as integrate_chunk
+            end, on_grid = graded_target(t, target, graded_from, dt)
+            if on_grid and target - graded_from >= 0.5 * dt:
+                graded_from = math.nan
+        h = end - t
+        if reuse and end == target:
             reuse = False
         else:
+            reuse = False
             rk4_step(s, t, h, mode, c, s1, work)
         if may_switch(t, h, mode, c, state_tuple(s), state_tuple(s1)):
             theta, which = piece_end(
@@ -134,20 +150,22 @@ def _scalar_step(s, mode, t, target, c, s1, have_s1, piece, trial, extremum, wor
         else:
             theta, which = NO_SWITCH, -1
             copy_state(s1, piece)
-        t_piece = t + theta * h if which >= 0 and theta < 1.0 else target
+        t_piece = t + theta * h if which >= 0 and theta < 1.0 else end
         if which >= 0:
             switches += 1
             if switches > MAX_SWITCHES_PER_STEP:
-                return mode, t, switches, True
+                return mode, t, switches, True, graded_from
             mode, _kind = apply_switch(which, t_piece, piece, mode, c)
+            if graded_switch(which, c):
+                graded_from = t_piece
         t = t_piece
         copy_state(piece, s)
-    return mode, t, switches, False
+    return mode, t, switches, False, graded_from
 
 
 @njit(cache=True, nogil=True)
 def _run_blocks(b_lo, b_hi, coeffs, states, directions, times, switches, flagged, status, grid,
-                block):  # fmt: skip
+                dt, block):  # fmt: skip
     """Integrate blocks [b_lo, b_hi) of ``block`` lanes over ``grid`` (in place, rows =
     lanes; a range of :func:`threads.run_ranges`)."""
     for b in range(b_lo, b_hi):
@@ -171,6 +189,7 @@ def _run_blocks(b_lo, b_hi, coeffs, states, directions, times, switches, flagged
         n_switch = np.zeros(block, dtype=np.int64)
         n_flag = np.zeros(block, dtype=np.int64)
         lane_status = np.zeros(block, dtype=np.int64)
+        graded_from = np.full(block, math.nan)  # per lane, see _scalar_step
         t_prev = 0.0
         for k in range(grid.shape[0]):
             target = grid[k]
@@ -202,9 +221,13 @@ def _run_blocks(b_lo, b_hi, coeffs, states, directions, times, switches, flagged
                         for j in range(N_STATE):
                             buf[pp._S + j, i] = s1[j]
                         continue
-                    d, t_lane, nsw, stalled = _scalar_step(
-                        s, mode, t_lane, target, c, s1, reuse, piece, trial, extremum, work, atol
-                    )
+                    # (A graded lane is a Mindlin one, of another model than the paper's:
+                    # always flagged, so every step of its grading comes here.)
+                    d, t_lane, nsw, stalled, graded = _scalar_step(
+                        s, mode, t_lane, target, dt, graded_from[i], c, s1, reuse, piece,
+                        trial, extremum, work, atol,
+                    )  # fmt: skip
+                    graded_from[i] = graded
                     for j in range(N_STATE):
                         buf[pp._S + j, i] = s[j]
                     if d != mode:
@@ -336,7 +359,7 @@ def simulate_batch(
     status = np.empty(n_pad, dtype=np.int64)
     threads.run_ranges(
         _run_blocks, n_pad // block, lane_coeffs, states, directions, times, switches, flagged,
-        status, grid, block, per_task=1,
+        status, grid, dt, block, per_task=1,
     )  # fmt: skip
     states, directions, times = states[:n], directions[:n], times[:n]
     switches, flagged, status = switches[:n], flagged[:n], status[:n]

@@ -24,15 +24,17 @@ from numba import njit
 from microslip import _jit_cache  # noqa: F401  (registers the cache before any @njit)
 from microslip.integrators.dop853 import dop853_step
 from microslip.integrators.methods import CONTROLLER_EXPONENT, RK4, WORK_ROWS, advance
-from microslip.integrators.steppers import rk4_step
-from microslip.integrators.switching import NO_SWITCH, first_switch, may_switch
+from microslip.integrators.steppers import GRADED_FINEST, rk4_step
+from microslip.integrators.switching import NO_SWITCH, first_switch, may_switch, method_for
 from microslip.model.coefficients import as_tuple
 from microslip.model.switches import apply_switch
+from microslip.model.switching_functions import graded_switch
 from microslip.model.system import NO_EVENT, state_tuple
 
 # Slots of the carry vector that holds the loop state between calls; the state follows.
 C_T, C_MODE, C_H, C_K, C_BOUNDARY, C_TEVAL, C_T0, C_STEPS, C_REJECTS = range(9)
-C_STATE = 9
+C_GRADING, C_GRADED_FROM = 9, 10  # leaving a graded switch (1.0) made at t [s]
+C_STATE = 11
 
 # Return status.
 DONE = 0
@@ -63,6 +65,21 @@ def next_grid_point(t, t0, k, dt, t_end):
 
 
 @njit(cache=True)
+def graded_target(t, target, graded_from, dt):
+    """(end [s], on the grid) of a fixed step from t [s] towards the grid point
+    ``target`` [s] while leaving a graded switch made at ``graded_from`` [s]: the step
+    is as long as the time since the switch (at least GRADED_FINEST·dt), so steps
+    double from the switch until they reach the grid (docs/theory/numerics.md, "Order
+    at a touchdown"). A doubled step that would end within half of itself of the grid
+    point goes to the grid point. The caller stops grading at the first grid point at
+    least dt/2 past the switch."""
+    length = max(t - graded_from, dt * GRADED_FINEST)
+    if t + 1.5 * length < target:
+        return t + length, False
+    return target, True
+
+
+@njit(cache=True)
 def copy_state(src, dst):
     for i in range(src.shape[0]):
         dst[i] = src[i]
@@ -80,7 +97,7 @@ def piece_end(method, s, s1, t, h, mode, c, rtol, atol, piece, trial, extremum, 
     """
     theta, which = first_switch(method, s, s1, t, h, mode, c, rtol, atol, trial, extremum, work)
     if which >= 0 and theta < 1.0:
-        advance(method, s, t, theta * h, mode, c, rtol, atol, piece, work)
+        advance(method_for(method, which, c), s, t, theta * h, mode, c, rtol, atol, piece, work)
     else:
         copy_state(s1, piece)
     return theta, which
@@ -134,6 +151,9 @@ def integrate_chunk(
     n_rejects = int(carry[C_REJECTS])
     use_t_eval = t_eval.shape[0] > 0
     exponent = CONTROLLER_EXPONENT[method]
+    grading = carry[C_GRADING] != 0.0
+    graded_from = carry[C_GRADED_FROM]
+    on_grid = True
     switches_in_step = 0
     aimed = False  # the last trial step was aimed at a switch of a rejected one
     status = DONE
@@ -143,6 +163,10 @@ def integrate_chunk(
             break
         if method == RK4:
             target, k = next_grid_point(t, t0, k, dt, t_end)
+            on_grid = True
+            if grading:
+                target, on_grid = graded_target(t, target, graded_from, dt)
+                grading = not (on_grid and target - graded_from >= 0.5 * dt)
             h = target - t
         else:
             h = min(h_ctrl, h_max)
@@ -212,6 +236,9 @@ def integrate_chunk(
                 status = STALLED
                 break
             mode, kind = apply_switch(which, t_piece, piece, mode, c)
+            if method == RK4 and graded_switch(which, c):
+                grading = True  # leave it by graded steps too (graded_target)
+                graded_from = t_piece
             if kind != NO_EVENT:
                 ev_t[n_ev] = t_piece
                 ev_kind[n_ev] = kind
@@ -222,7 +249,8 @@ def integrate_chunk(
             switches_in_step = 0
             n_steps += 1
             if method == RK4:
-                k += 1
+                if on_grid:
+                    k += 1
             elif err > 0.0:
                 h_ctrl = h * min(10.0, 0.9 * err**exponent)
             else:
@@ -249,4 +277,6 @@ def integrate_chunk(
     carry[C_TEVAL] = i_eval
     carry[C_STEPS] = n_steps
     carry[C_REJECTS] = n_rejects
+    carry[C_GRADING] = 1.0 if grading else 0.0
+    carry[C_GRADED_FROM] = graded_from
     return n_out, n_ev, status

@@ -7,17 +7,20 @@ from numba import njit
 
 from microslip import _jit_cache  # noqa: F401  (registers the cache before any @njit)
 from microslip.integrators.dop853 import dop853_step
-from microslip.integrators.steppers import WORK_ROWS, rk4_step
+from microslip.integrators.steppers import WORK_ROWS, rk4_graded_step, rk4_step
 
-__all__ = ["CONTROLLER_EXPONENT", "DOP853", "RK4", "WORK_ROWS", "advance"]
+__all__ = ["CONTROLLER_EXPONENT", "DOP853", "RK4", "RK4_GRADED", "WORK_ROWS", "advance"]
 
 # NumPy integers, not Python ones: numba types a module-level int passed to a jitted
 # function as a literal and compiles the callee once per value (docs/design.md).
 RK4 = np.int64(0)  # classical Runge–Kutta, fixed step (the paper's method)
 DOP853 = np.int64(1)  # Dormand–Prince 8(5,3), adaptive: the "event" method
+# RK4 on sub-steps graded towards the step end: how a fixed-step loop reaches a switch
+# whose function the model grades (model.switching_functions.graded_switch).
+RK4_GRADED = np.int64(2)
 
 # Exponent of the step-size controller, -1/(order of the error estimate + 1).
-CONTROLLER_EXPONENT = (0.0, -1.0 / 8.0)
+CONTROLLER_EXPONENT = (0.0, -1.0 / 8.0, 0.0)
 
 
 @njit(cache=True)
@@ -33,5 +36,8 @@ def advance(method, s, t, h, mode, c, rtol, atol, out, work):
     """
     if method == RK4:
         rk4_step(s, t, h, mode, c, out, work)
+        return 0.0
+    if method == RK4_GRADED:
+        rk4_graded_step(s, t, h, mode, c, out, work)
         return 0.0
     return dop853_step(s, t, h, mode, c, rtol, atol, out, work)

@@ -46,7 +46,7 @@ from microslip.integrators.kernel import (
     next_grid_point,
 )
 from microslip.integrators.methods import RK4, WORK_ROWS, advance
-from microslip.integrators.switching import first_switch, two_sided_may_flip
+from microslip.integrators.switching import first_switch, method_for, two_sided_may_flip
 
 # A row's columns and the quartic of its piece are tape_row's; all its names are
 # re-exported here (callers read nt.ROW, nt.H, nt.poly, nt.integral, ...).
@@ -279,7 +279,8 @@ def fill_tape(carry, c_array, t_end, dt, tape, work):
                 RK4, s0, s1, t, h, mode, c, 0.0, atol, trial, extremum, work
             )
             if which >= 0 and theta < 1.0:
-                advance(RK4, s0, t, theta * h, mode, c, 0.0, atol, piece, work)
+                advance(method_for(RK4, which, c), s0, t, theta * h, mode, c, 0.0, atol, piece,
+                        work)  # fmt: skip
                 t1 = t + theta * h
                 mode, _ = apply_switch(which, t1, piece, mode, c)
                 y1, v1 = piece[0], piece[1]

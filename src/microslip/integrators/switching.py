@@ -34,8 +34,9 @@ import numpy as np
 from numba import njit
 
 from microslip import _jit_cache  # noqa: F401  (registers the cache before any @njit)
-from microslip.integrators.methods import advance
+from microslip.integrators.methods import RK4, RK4_GRADED, advance
 from microslip.model.switching_functions import (
+    graded_switch,
     holds_only_inside,
     inside,
     switch_active,
@@ -50,6 +51,7 @@ __all__ = [
     "first_switch",
     "locate",
     "may_switch",
+    "method_for",
     "two_sided_may_flip",
 ]
 
@@ -234,13 +236,25 @@ def may_switch(t, h, mode, c, x0, x1):
 
 
 @njit(cache=True)
+def method_for(method, which, c):
+    """The method that locates, and steps to, a flip of switching function ``which``:
+    RK4 on sub-steps graded towards the flip (``RK4_GRADED``) where the model grades
+    that function (:func:`~microslip.model.switching_functions.graded_switch`), else
+    ``method`` itself."""
+    if method == RK4 and graded_switch(which, c):
+        return RK4_GRADED
+    return method
+
+
+@njit(cache=True)
 def first_switch(method, s0, s1, t, h, mode, c, rtol, atol, trial, extremum, work):
     """Earliest switching inside a trial step from (t, s0) to (t + h, s1).
 
     ``trial`` and ``extremum`` are scratch states, ``work`` the steps' scratch (see
     :func:`microslip.integrators.methods.advance`). Returns (θ, which) with θ in (0, 1],
     or (NO_SWITCH, -1) when the step holds no switch. On a tie the function listed
-    first by the model wins.
+    first by the model wins. A flip is located with :func:`method_for`'s method, which
+    the caller also takes to step to it.
     """
     x0 = state_tuple(s0)
     x1 = state_tuple(s1)
@@ -253,8 +267,8 @@ def first_switch(method, s0, s1, t, h, mode, c, rtol, atol, trial, extremum, wor
         if verdict == _CLEAR:
             continue
         theta = _resolve(
-            verdict, which, method, s0, t, h, mode, c, rtol, atol, g0, g1, r0, r1,
-            trial, extremum, work,
+            verdict, which, method_for(method, which, c), s0, t, h, mode, c, rtol, atol,
+            g0, g1, r0, r1, trial, extremum, work,
         )  # fmt: skip
         if theta < best:
             best = theta

@@ -49,10 +49,11 @@ from microslip.model.system import (
     sign,
     tangential_mode,
 )
-from microslip.model.tangential import is_compliant
+from microslip.model.tangential import is_compliant, stiffness_rough_at_touch
 
 __all__ = [
     "contact_side_rate",
+    "graded_switch",
     "holds_only_inside",
     "in_contact",
     "inside",
@@ -133,6 +134,18 @@ def switch_active(which, mode, c):
     if which == STICK_MARGIN:
         return direction == 0.0
     return direction == 1.0 or direction == -1.0
+
+
+@njit(cache=True)
+def graded_switch(which, c):
+    """True when a fixed step of full length is too coarse next to a flip of switching
+    function ``which``: the contact gap of a Mindlin contact whose stiffness has a
+    corner there (:func:`~microslip.model.tangential.stiffness_rough_at_touch`). A
+    fixed-step integrator then reaches and leaves the flip by graded steps
+    (docs/theory/numerics.md, "Order at a touchdown"). The contact law's own corner
+    (N ∝ δ^m2) is left to the full steps: graded steps next to it did not lower the
+    error of y, which the full steps just past them set."""
+    return which == CONTACT_GAP and stiffness_rough_at_touch(c)
 
 
 @njit(cache=True)

@@ -26,7 +26,7 @@ from numba import njit
 
 from microslip import _jit_cache  # noqa: F401  (registers the cache before any @njit)
 from microslip.model.coefficients import TANGENTIAL_KIND, TANGENTIAL_STIFFNESS
-from microslip.model.contact import elastic_stiffness
+from microslip.model.contact import elastic_stiffness, rough_at_touch
 from microslip.model.parameters import Parameters
 from microslip.model.parts import Part, part_field, relative_range
 
@@ -35,6 +35,7 @@ __all__ = [
     "Rigid",
     "TangentialSpring",
     "is_compliant",
+    "stiffness_rough_at_touch",
     "tangential_stiffness",
 ]
 
@@ -114,6 +115,15 @@ class MindlinSpring(Part):
 def is_compliant(c):
     """True with a compliant tangential contact (a contact point and a spring)."""
     return c[TANGENTIAL_KIND] != RIGID
+
+
+@njit(cache=True)
+def stiffness_rough_at_touch(c):
+    """True when k_t has a corner of fractional order at δ = 0+: a Mindlin stiffness
+    λ dN/dδ ∝ δ^(m2-1) on a contact law that is rough there
+    (:func:`~microslip.model.contact.rough_at_touch`). A point that sticks from a
+    touchdown then loads at a rate ∝ δ^(m2-1), singular for m2 < 2."""
+    return c[TANGENTIAL_KIND] == MINDLIN and rough_at_touch(c)
 
 
 @njit(cache=True, error_model="numpy")
