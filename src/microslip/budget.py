@@ -361,7 +361,7 @@ def estimate_sweep(
     over chunks of grid steps x :func:`shared_chunk_rounds` (the tapes, a thread each),
     each round also advancing its ``n_forces`` lanes (``kernel="spring"``: a
     TangentialSpring's lanes; ``kernel="mindlin"``: a MindlinSpring's, whose set-up
-    steps cost more); with ``kernel="batched"`` (a MindlinSpring of another m2) from
+    steps cost more); with ``kernel="batched"`` (the set-ups the Mindlin lanes hand back) from
     ``lane_steps`` spread over the threads. Where a free vibration's tape repeats, a
     round costs ``tape_fraction`` and ``lane_fraction`` of the shared-normal kernels'
     tape and lane work (:data:`PARKED_LANE_PERIODS`), each of its ``cycles`` set-ups

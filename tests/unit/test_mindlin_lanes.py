@@ -166,15 +166,30 @@ def test_a_release_between_two_sticking_piece_ends_is_found():
 
 
 @pytest.mark.parametrize("m2", [1.5, 2.5])
-def test_an_exponent_whose_stiffness_is_not_smooth_at_touchdown_is_refused(m2):
-    """k_t ∝ δ^(m2-1) with 1 < m2 < 3, m2 != 2: refused in one line naming m2 (a lane
-    that lands would stall); the sweep takes the batched kernel instead."""
-    c = normal_coefficients(
-        ms.Model(ms.Parameters(m2=m2), tangential=ms.MindlinSpring(RATIO)).pack(0.0)
-    )
-    normal0 = np.array([[P.static_deflection, 0.0]])
-    with pytest.raises(ValueError, match=rf"m2 = {m2}: the Mindlin-lane kernel runs m2 = 1, 2"):
-        run_mindlin_lanes(c[None], normal0, [RATIO], [0], [0.5], 0.1, 0.1, 1e-3, DT)
+def test_an_exponent_rough_at_touchdown_runs_in_contact_and_hands_back_a_flight(m2):
+    """k_t ∝ δ^(m2-1) with 1 < m2 < 3, m2 != 2 is rough where δ = 0, and a lane that
+    lands would stall: a set-up that leaves contact is handed back (LaneStalledError
+    naming it; the sweep runs it on the batched kernel), one that stays in contact runs.
+    At rest in the static deflection (N = m g, k_t = λ K_n with K_n = m2 m g/y0) a lane
+    under F <= μ m g/2 sticks: x = F/k_t (1 - cos ωt)."""
+    from microslip.integrators.shared_lanes import LaneStalledError
+
+    params = ms.Parameters(m2=m2)
+    c = normal_coefficients(ms.Model(params, tangential=ms.MindlinSpring(RATIO)).pack(0.0))
+    y0 = params.static_deflection
+    k_t = RATIO * params.contact_stiffness
+    omega = math.sqrt(k_t / params.mass)
+    dt = 2.0 * math.pi / omega / 200.0
+    at_rest = [y0, 0.0]
+    flight = list(initial_state_from_amplitude(params, 1.4 * y0)[:2])
+    force, duration = 0.3, 1e-3
+    with pytest.raises(LaneStalledError, match="left contact") as info:
+        run_mindlin_lanes(np.array([c, c]), np.array([at_rest, flight]), [RATIO, RATIO],
+                          [0, 1], [force, force], 0.1, 0.1, duration, dt)  # fmt: skip
+    assert list(info.value.setups) == [1]
+    x = run_mindlin_lanes(c[None], np.array([at_rest]), [RATIO], [0], [force], 0.1, 0.1,
+                          duration, dt)[0]  # fmt: skip
+    assert x[0] == pytest.approx(force / k_t * (1.0 - math.cos(omega * duration)), rel=1e-9)
 
 
 def _repeated_set_up(amplitude, duration, dt=DT):

@@ -108,15 +108,16 @@ def test_a_spring_time_sweep_is_the_same_bits_however_it_is_chunked():
         )
 
 
-def test_mindlin_exponents_without_lanes_run_on_the_batched_kernel():
-    """m2 = 1.5 (k_t ∝ δ^0.5, not smooth at touchdown: the Mindlin lanes refuse it) with
-    a flight every period: each point is the rk4 run of simulate at the sweep's step, bit
-    for bit; m2 = 2 in the same sweep runs on the Mindlin lanes, as it does alone."""
-    from microslip.sweeps.kernel_choice import time_kernel
+def test_mindlin_set_ups_with_a_flight_at_a_rough_exponent_run_on_the_batched_kernel():
+    """m2 = 1.5 (k_t ∝ δ^0.5, rough at touchdown: the Mindlin lanes hand back a set-up
+    that leaves contact) with a flight every period: each point is the rk4 run of
+    simulate at the sweep's step, bit for bit; m2 = 2 in the same sweep runs on the
+    Mindlin lanes, as it does alone."""
+    from microslip.sweeps.kernel_choice import rough_exponents, time_kernel
 
     model = ms.Model(ms.Parameters(m2=1.5), tangential=ms.MindlinSpring(0.8235))
-    assert time_kernel(model) == "batched"
-    assert time_kernel(model.replace(m2=2.0)) == "mindlin"
+    assert time_kernel(model) == "mindlin" and rough_exponents(model)
+    assert not rough_exponents(model.replace(m2=2.0))
     y0 = model.params.static_deflection
     forces, amplitude = [0.2, 0.6], 1.4 * y0
     result = sweep(model, None, force=forces, amplitude=[amplitude], method="time",
@@ -168,3 +169,34 @@ def test_mindlin_touchdown_tie_runs_on_the_batched_kernel():
     ) / duration  # fmt: skip
     assert np.all(np.abs(events) > 0)
     assert np.abs(result - events).max() <= 1e-6 * np.abs(events).max()
+
+
+def test_the_estimate_counts_rough_set_ups_that_may_leave_contact_on_the_batched_kernel():
+    """A rough-exponent Mindlin sweep (m2 = 1.5): set-ups of a free vibration from rest
+    at A < y0 stay in contact and run on the lanes; those at A >= y0, every forced one
+    and every one of an m2 axis may be handed back and are estimated on the batched
+    kernel (~100 times dearer per trajectory-step)."""
+    from microslip.sweeps.kernel_choice import estimate_work, rough_setups
+
+    hertz = ms.Parameters(m2=1.5)
+    y0 = hertz.static_deflection
+    model = ms.Model(hertz, tangential=ms.MindlinSpring(0.8235))
+    assert rough_setups(model, (), [0.5 * y0, 0.9 * y0]) == 0.0
+    assert rough_setups(model, (), [0.5 * y0, 1.0 * y0, 1.3 * y0, 0.2 * y0]) == 0.5
+    assert rough_setups(model, (), None) == 1.0
+    assert rough_setups(model.replace(m2=2.0), (), [1.3 * y0]) == 0.0
+    assert rough_setups(ms.Model(hertz, tangential=ms.TangentialSpring(1e8)), (), [2 * y0]) == 0
+    forced = model.replace(excitation=ms.HarmonicForce(2.0, 1200.0))
+    assert rough_setups(forced, (), None) == 1.0
+    assert rough_setups(model.replace(m2=2.0), (("m2", (1.5, 2.0)),), [0.5 * y0]) == 1.0
+    forces = np.linspace(0.1, 0.9, 64)
+
+    def seconds(amplitudes):
+        n = len(amplitudes)
+        work = estimate_work(model, (), forces.size, n, "time", 0.01, None, n, forces=forces,
+                             amplitudes=amplitudes)  # fmt: skip
+        return work.seconds
+
+    in_contact = seconds(np.array([0.2, 0.4, 0.6, 0.8]) * y0)
+    with_flights = seconds(np.array([0.2, 0.4, 1.2, 1.6]) * y0)
+    assert with_flights > 10.0 * in_contact

@@ -52,24 +52,28 @@ def test_rk4_through_hertz_touchdowns_with_a_sticking_mindlin_point(name):
 
 
 def test_time_sweep_through_hertz_touchdowns_matches_the_event_method():
+    """In contact throughout (A < y0) the set-ups run on the Mindlin lanes, whose stiffness
+    quartics are smooth there; with a flight (A >= y0) the lanes hand them back and each
+    point is the batched kernel's, the same steps as simulate(method="rk4")."""
     model = ms.Model(HERTZ, tangential=ms.MindlinSpring(0.8235))
     forces = np.array([0.2, 0.5, 0.9])
-    amplitudes = [1.3 * Y0, 2.0 * Y0]  # a loss of contact every period
+    amplitudes = [0.5 * Y0, 0.95 * Y0, 1.3 * Y0, 2.0 * Y0]
     duration = 0.004
     result = ms.sweep(model, force=forces, amplitude=amplitudes, method="time",
                       duration=duration)  # fmt: skip
     values = np.asarray(result.values)
-    errors, reference = [], []
+    errors, reference = np.zeros(values.shape), np.zeros(values.shape)
     for j, amplitude in enumerate(amplitudes):
         for i, force in enumerate(forces):
             event = ms.simulate(model, force=float(force), amplitude=amplitude,
                                 duration=duration, rtol=1e-12)  # fmt: skip
-            reference.append(event.x[-1] / duration)
-            errors.append(abs(values[i, j] - reference[-1]))
-            # the batched kernel takes the same steps as simulate(method="rk4")
-            rk4 = ms.simulate(model, force=float(force), amplitude=amplitude,
-                              duration=duration, method="rk4")  # fmt: skip
-            assert rk4.x[-1] / duration == values[i, j]
+            reference[i, j] = event.x[-1] / duration
+            errors[i, j] = abs(values[i, j] - reference[i, j])
+            if amplitude >= Y0:
+                rk4 = ms.simulate(model, force=float(force), amplitude=amplitude,
+                                  duration=duration, method="rk4")  # fmt: skip
+                assert rk4.x[-1] / duration == values[i, j]
     scale = np.max(np.abs(reference))
-    # measured 1.9e-6 (2.4e-4 with full steps)
-    assert max(errors) <= 3e-6 * scale, max(errors) / scale
+    # measured: on the lanes 1.3e-8 and 6.7e-8; with flights 1.9e-6 (2.4e-4 with full steps)
+    assert np.max(errors[:, :2]) <= 1e-6 * scale, np.max(errors[:, :2]) / scale
+    assert np.max(errors) <= 3e-6 * scale, np.max(errors) / scale

@@ -15,13 +15,17 @@ a 2x2 matrix product and a sliding one the rigid law.
 A lane's arithmetic depends only on its own parameters and its set-up's tape (no
 fastmath): the same bits whatever the other lanes, their order or the threads.
 
-Contact exponents: m2 = 1, m2 = 2 and m2 >= 3 (:func:`supports_exponent`). Otherwise
-k_t ∝ δ^(m2-1) is not smooth where δ = 0: on the piece after a touchdown (and before a
-lift-off) its quartic misses the infinite slope (1 < m2 < 2) or curvature (2 < m2 < 3)
-there, the stick's loading and the slip's stop function disagree at a grazing
-touchdown, and a lane that lands chatters between them until it stalls (measured: every
-lane with a flight at m2 = 1.2, 1.5, 1.9, 1.99, 2.2, 2.5). Time sweeps of those models
-run on the batched RK4 kernel (:mod:`microslip.sweeps.kernel_choice`).
+Contact exponents: any m2. For m2 = 1, 2 and >= 3 (:func:`supports_exponent`) every
+set-up runs here. Otherwise k_t ∝ δ^(m2-1) is not smooth where δ = 0 (a Hertz contact,
+m2 = 1.5): on the piece after a touchdown (and before a lift-off) its quartic misses
+the infinite slope (1 < m2 < 2) or curvature (2 < m2 < 3) there, the stick's loading
+and the slip's stop function disagree at a grazing touchdown, and a lane that lands
+chatters between them until it stalls (measured: every lane with a flight at m2 = 1.2,
+1.5, 1.9, 1.99, 2.2, 2.5). So a set-up of such an m2 runs here while it stays in
+contact (k_t is smooth where δ > 0: within 2e-7 of the event method's largest velocity
+at m2 = 1.5 up to A = 0.999 y0), and its first row in flight hands it back
+(``LEFT_ROUGH_CONTACT``, :class:`~microslip.integrators.shared_lanes.LaneStalledError`):
+the time sweep runs it on the batched RK4 kernel (:mod:`microslip.sweeps.compute`).
 """
 
 from __future__ import annotations
@@ -38,6 +42,7 @@ from microslip.integrators.shared_lanes import (
     FIRST_ROW,
     LANE_STALLED,
     OK,
+    LaneStalledError,
     put_group,
     raise_on_failure,
     take_group,
@@ -61,10 +66,18 @@ from microslip.integrators.spring_lanes import (
 from microslip.model.coefficients import EXPONENT, GRAVITY, MASS
 
 STEP_TOO_COARSE = 7  # a set-up's status: θ = h sqrt(k_t/m) > MAX_THETA on a piece
+LEFT_ROUGH_CONTACT = 8  # a set-up's status: a flight at an m2 outside supports_exponent
+HANDED_BACK = {
+    LANE_STALLED: "a lane stalled",
+    LEFT_ROUGH_CONTACT: "the normal motion left contact on a law whose Mindlin stiffness is "
+    "rough at touchdown",
+}
 
 
-def supports_exponent(m2: float) -> bool:
-    """True for the contact exponents m2 [-] this kernel runs: 1, 2 and >= 3 (module doc)."""
+@njit(cache=True)
+def supports_exponent(m2):
+    """True for the contact exponents m2 [-] whose set-ups this kernel runs through a
+    flight: 1, 2 and >= 3 (module doc)."""
     return m2 == 1.0 or m2 == 2.0 or m2 >= 3.0
 
 
@@ -146,6 +159,8 @@ def _run_group(c, y0, ydot0, ratio, cycle, shape, t_end, dt, lanes, switches, fl
     if shape[0] > 0:
         period_rows, tail_rows, repeats, _period = shape
         total = period_rows + tail_rows
+        if not supports_exponent(laws[EXPONENT]) and _has_flight(cycle, total):
+            return LEFT_ROUGH_CONTACT  # before its pieces are written (module doc)
         table = np.zeros((total, law.PIECE))
         coarse = _piece_table(table, cycle, total, laws, ratio)
         for _ in range(repeats):
@@ -174,6 +189,15 @@ def _run_group(c, y0, ydot0, ratio, cycle, shape, t_end, dt, lanes, switches, fl
             return status
         if tape_status == 0:
             return OK
+
+
+@njit(cache=True)
+def _has_flight(rows, n_rows):
+    """True when one of the first ``n_rows`` rows of ``rows`` is in flight."""
+    for r in range(n_rows):
+        if flight_piece(nt.coefficients(rows, r)):
+            return True
+    return False
 
 
 @njit(cache=True)
@@ -206,12 +230,16 @@ def _run_rows(lanes, rows, lo, hi, pieces, cached, coarse, laws, flying, switche
     vector pass and the law for the lanes it flags. A contact row's piece is
     pieces[r] where ``cached`` (``coarse``: the first row too coarse), else written into
     pieces[0] here from ``laws``, the coefficient tuple. Returns (status, whether the
-    lanes are in flight)."""
+    lanes are in flight); a row in flight at an m2 outside :func:`supports_exponent`
+    returns LEFT_ROUGH_CONTACT."""
     n = lanes.shape[1]
+    rough = not supports_exponent(laws[EXPONENT])
     for r in range(lo, hi):
         h = rows[r, nt.H]
         a = nt.coefficients(rows, r)
         if flight_piece(a):
+            if rough:
+                return LEFT_ROUGH_CONTACT, flying
             fly(lanes, n, h, flying)
             flying = True
             continue
@@ -278,14 +306,15 @@ def run_mindlin_lanes(normal_coeffs, normal_states0, ratio, group_of_lane, force
         all 0): :func:`~microslip.integrators.shared_lanes.run_shared`.
 
     Returns (x [m], ẋ [m/s], f [N], mode, switches, flagged) per lane at ``t_end``
-    (mode 0 stick, ±1 slip, 2 flight). ValueError for a contact exponent m2 it does not
-    run (:func:`supports_exponent`) or when dt is too coarse for the tangential
-    oscillation (h sqrt(k_t/m) > 2 on a piece); RuntimeError if a normal integration or
-    a lane fails.
+    (mode 0 stick, ±1 slip, 2 flight). ValueError when dt is too coarse for the
+    tangential oscillation (h sqrt(k_t/m) > 2 on a piece); RuntimeError if a normal
+    integration fails; :class:`~microslip.integrators.shared_lanes.LaneStalledError`
+    naming the set-ups it hands back (a lane stalled, or a set-up of a contact exponent
+    outside :func:`supports_exponent` left contact: module doc), with these results,
+    complete for the other set-ups, as its ``partial``.
     """
     normal_coeffs = np.ascontiguousarray(normal_coeffs, dtype=np.float64)
     states0 = np.asarray(normal_states0, dtype=np.float64)
-    check_exponents(normal_coeffs)
     lanes, starts, ratio = pack_lanes(
         normal_coeffs, ratio, group_of_lane, forces, mu_static, mu_kinetic, what="ratio"
     )
@@ -300,13 +329,18 @@ def run_mindlin_lanes(normal_coeffs, normal_states0, ratio, group_of_lane, force
         *cycles, starts, lanes, switches, flagged, status, float(t_end), float(dt), per_task=1,
     )  # fmt: skip
     raise_if_too_coarse(status == STEP_TOO_COARSE, dt)
-    raise_on_failure(status, "Mindlin-lane kernel")
-    return lanes[X], lanes[V], lanes[FS], lanes[MODE], switches, flagged
+    results = lanes[X], lanes[V], lanes[FS], lanes[MODE], switches, flagged
+    try:
+        raise_on_failure(status, "Mindlin-lane kernel", HANDED_BACK)
+    except LaneStalledError as error:
+        error.partial = results  # the other set-ups ran to the end: no need to rerun them
+        raise
+    return results
 
 
 def check_exponents(normal_coeffs: np.ndarray) -> None:
-    """ValueError in one line for a set-up whose contact exponent m2 these lanes do not
-    run (:func:`supports_exponent`)."""
+    """ValueError in one line for a set-up whose contact exponent m2 the GPU lanes do not
+    run (:func:`supports_exponent`; they hand back no set-up)."""
     for m2 in np.unique(normal_coeffs[:, EXPONENT]):
         if not supports_exponent(float(m2)):
             raise ValueError(

@@ -42,28 +42,39 @@ LANE_STALLED = 5  # a lane switched more than MAX_SWITCHES_PER_STEP times in one
 
 
 class LaneStalledError(RuntimeError):
-    """A lane stalled (more than MAX_SWITCHES_PER_STEP switches in one piece);
-    ``setups`` holds every set-up with a stalled lane."""
+    """Set-ups the lanes hand back, to be run on the batched RK4 kernel: a lane stalled
+    (more than MAX_SWITCHES_PER_STEP switches in one piece) or, on the Mindlin lanes, a
+    set-up left contact on a rough law (``mindlin_lanes.LEFT_ROUGH_CONTACT``);
+    ``setups`` holds every such set-up; ``partial``, where the kernel sets it, its
+    results, complete for every other set-up (each depends on nothing else in the run)."""
 
     def __init__(self, message: str, setups: np.ndarray):
         super().__init__(message)
         self.setups = setups
+        self.partial: tuple | None = None
 
 
-def raise_on_failure(status: np.ndarray, kernel: str) -> None:
+# The statuses of a set-up that :func:`raise_on_failure` hands back, with their reason.
+HANDED_BACK = {LANE_STALLED: "a lane stalled"}
+
+
+def raise_on_failure(status: np.ndarray, kernel: str, handed_back=None) -> None:
     """RuntimeError naming the first normal set-up whose status is not OK: a failed
-    normal integration first, else :class:`LaneStalledError`."""
-    failed = np.flatnonzero((status != OK) & (status != LANE_STALLED))
+    normal integration first, else :class:`LaneStalledError` for the statuses of
+    ``handed_back`` ({status: reason}, default :data:`HANDED_BACK`)."""
+    handed_back = HANDED_BACK if handed_back is None else handed_back
+    back = np.isin(status, list(handed_back))
+    failed = np.flatnonzero((status != OK) & ~back)
     if failed.size:
         g = int(failed[0])
         raise RuntimeError(
             f"{kernel}: the normal integration failed in set-up {g} (status {status[g]})"
         )
-    stalled = np.flatnonzero(status == LANE_STALLED)
-    if stalled.size:
-        g = int(stalled[0])
-        message = f"{kernel}: a lane stalled in set-up {g} (status {status[g]})"
-        raise LaneStalledError(message, stalled)
+    setups = np.flatnonzero(back)
+    if setups.size:
+        g = int(setups[0])
+        message = f"{kernel}: {handed_back[int(status[g])]} in set-up {g} (status {status[g]})"
+        raise LaneStalledError(message, setups)
 
 
 # Rows of the lane array of a group (one array: a compiled call counts each array

@@ -65,10 +65,13 @@ def sweep(
         parameter set shared by all forces; a damped free vibration decays to rest (0
         below μ m g). "time": RK4 with located switching for ``duration`` [s] from
         rest (at the top for the free vibration, at y0 under excitation), mean =
-        x(duration)/duration: the shared-normal kernel on a rigid contact; with a
-        compliant tangential contact (TangentialSpring, MindlinSpring, which "steady"
-        refuses) one batched trajectory per point, ``simulate(method="rk4")`` bit for
-        bit, at ~0.4-1.3 µs per trajectory-step and thread.
+        x(duration)/duration: a shared-normal kernel (one normal motion per set-up,
+        shared by every force) on a rigid contact, a TangentialSpring or a MindlinSpring
+        (the compliant contacts, which "steady" refuses); a MindlinSpring set-up that
+        leaves contact at m2 other than 1, 2 or >= 3 (a Hertz contact, m2 = 1.5), and
+        one whose lane stalls, run as one batched trajectory per force instead,
+        ``simulate(method="rk4")`` bit for bit, at ~0.4-1.3 µs per trajectory-step and
+        thread.
     duration : float, optional
         Simulated time per point for "time" [s] (default 0.05 s), at least 1e-6 T0 of
         every parameter set. Refused with "steady" unless it is the default.

@@ -23,8 +23,6 @@ def compute_chunk(spec: SweepSpec, key: ChunkKey) -> np.ndarray:
     Each point is computed independently of the chunking, so results are bit-identical
     however the sweep is split or distributed.
     """
-    if spec.method == "time" and time_kernel(spec.model_at(key)) == "batched":
-        return compliant_time_chunk(spec, key)
     if spec.forced:
         return forced_chunk(spec, key)
     if spec.base.damping is not None and spec.method == "steady":
@@ -48,11 +46,7 @@ def compute_chunk(spec: SweepSpec, key: ChunkKey) -> np.ndarray:
 def shares_runs(spec: SweepSpec) -> bool:
     """True when :func:`compute_chunks` computes several chunks in one run: a forced
     model's time chunks on a shared-normal kernel, one normal set-up each."""
-    return (
-        spec.forced
-        and spec.method == "time"
-        and time_kernel(spec.base, spec.param_axes) != "batched"
-    )
+    return spec.forced and spec.method == "time"
 
 
 def compute_chunks(spec: SweepSpec, keys: list[ChunkKey]) -> list[np.ndarray]:
@@ -141,30 +135,6 @@ def forced_chunk(spec: SweepSpec, key: ChunkKey) -> np.ndarray:
     return mean_velocities(table, model.params.mu, forces)[:, None]
 
 
-def compliant_time_chunk(spec: SweepSpec, key: ChunkKey) -> np.ndarray:
-    """x(T)/T [m/s] on the chunk's block for a MindlinSpring whose contact exponent the
-    Mindlin lanes do not run (:func:`~microslip.integrators.mindlin_lanes.supports_exponent`),
-    shape (forces, amplitudes of the chunk; one for a forced model).
-
-    Every (force, amplitude) is a trajectory of the batched RK4 kernel
-    (:func:`microslip.integrators.batched.simulate_batch`: ``simulate(method="rk4")``
-    bit for bit), from the initial state of ``simulate``: the paper's rest at the top
-    (free vibration) or rest at y0 (forced), a relaxed spring.
-    """
-    model = spec.model_at(key)
-    forces = np.asarray(spec.forces, dtype=float)
-    dt = _time_step(spec, model)
-    if spec.forced:
-        result = _batched_run(model, forces, spec.duration, dt)  # from rest at y0
-        return result.mean_velocity[:, None]
-    amplitudes = spec.amplitudes[spec.amplitude_slice(key)]
-    starts = [initial_state_from_amplitude(model.params, a) for a in amplitudes]
-    states0 = np.repeat(np.array(starts), forces.size, axis=0)  # amplitude-major, then force
-    lanes = np.tile(forces, len(starts))
-    result = _batched_run(model, lanes, spec.duration, dt, states0=states0)
-    return result.mean_velocity.reshape(len(starts), forces.size).T
-
-
 def _normal_periods(models, normal0) -> np.ndarray:
     """Period [s] of each set-up's normal motion where it is periodic from t = 0, else 0:
     a conservative free vibration (no damping, no excitation) started at rest above its
@@ -233,10 +203,15 @@ def _lane_arrays(models, forces):
 def _mindlin_run(models, coeffs, normal0, forces, duration, dt, periods, backend):
     """x(duration) [m] per lane (set-up-major) of the Mindlin lanes of :func:`_shared_run`.
 
-    A set-up where a lane stalls (an exact tie of stick and slip at a touchdown,
-    docs/theory/numerics.md "Lanes on a Mindlin spring") runs on the batched RK4 kernel
-    instead, one trajectory per force, and the other set-ups on the lanes again: each
-    set-up's result still depends on nothing else in the run."""
+    A set-up the lanes hand back runs on the batched RK4 kernel instead, one trajectory
+    per force (``simulate(method="rk4")`` bit for bit); the other set-ups keep their
+    lanes' results (on the GPU, which returns none, they run on the lanes again): each
+    set-up's result still depends on nothing else in the run. The
+    lanes hand back a set-up where a lane stalls (an exact tie of stick and slip at a
+    touchdown) and one that leaves contact at a contact exponent outside
+    :func:`~microslip.integrators.mindlin_lanes.supports_exponent`, whose stiffness
+    k_t ∝ δ^(m2-1) is rough at touchdown (docs/theory/numerics.md, "Lanes on a Mindlin
+    spring")."""
     from microslip.integrators.shared_lanes import LaneStalledError
 
     if backend == "cuda":
@@ -256,10 +231,12 @@ def _mindlin_run(models, coeffs, normal0, forces, duration, dt, periods, backend
     try:
         return lanes(everything).ravel()
     except LaneStalledError as error:
-        stalled = error.setups
+        stalled, partial = error.setups, error.partial
     x = np.empty((len(models), forces.size))
     rest = np.setdiff1d(everything, stalled)
-    if rest.size:
+    if partial is not None:  # the other set-ups' lanes ran to the end
+        x[rest] = partial[0].reshape(len(models), forces.size)[rest]
+    elif rest.size:
         x[rest] = lanes(rest)
     for g in stalled:
         states0 = np.zeros((forces.size, 4))

@@ -25,6 +25,8 @@ __all__ = [
     "TIME_TANGENTIAL",
     "checked_backend",
     "estimate_work",
+    "rough_exponents",
+    "rough_setups",
     "time_kernel",
 ]
 
@@ -38,21 +40,44 @@ SWEEP_INSTEAD = (
 )
 
 
-def time_kernel(model: Model, param_axes=()) -> str:
+def time_kernel(model: Model) -> str:
     """The kernel of a time sweep of ``model`` (:func:`microslip.budget.estimate_sweep`):
     "shared" (rigid contact), "spring" (TangentialSpring) or "mindlin" (MindlinSpring),
     each a shared-normal kernel (:mod:`microslip.integrators.shared_lanes`,
-    :mod:`~microslip.integrators.spring_lanes`, :mod:`~microslip.integrators.mindlin_lanes`);
-    "batched" (:mod:`microslip.integrators.batched`, one trajectory per point) for a
-    MindlinSpring whose contact exponent m2, or one of the ``param_axes``' values of
-    "m2", the Mindlin lanes do not run
-    (:func:`~microslip.integrators.mindlin_lanes.supports_exponent`)."""
+    :mod:`~microslip.integrators.spring_lanes`, :mod:`~microslip.integrators.mindlin_lanes`).
+    The Mindlin lanes hand a set-up back to the batched RK4 kernel
+    (:mod:`microslip.integrators.batched`, one trajectory per force) when one of its
+    lanes stalls, or when it leaves contact at a contact exponent m2 outside
+    :func:`~microslip.integrators.mindlin_lanes.supports_exponent` (a Hertz contact,
+    m2 = 1.5): :func:`rough_setups` counts those for the estimate."""
     if not model.is_compliant:
         return "shared"
     if isinstance(model.tangential, TangentialSpring):
         return "spring"
+    return "mindlin"
+
+
+def rough_exponents(model: Model, param_axes=()) -> bool:
+    """True for a MindlinSpring sweep with a contact exponent m2 (of the model or of an
+    "m2" axis) outside :func:`~microslip.integrators.mindlin_lanes.supports_exponent`."""
+    if not isinstance(model.tangential, MindlinSpring):
+        return False
     exponents = dict(param_axes).get("m2", (model.params.m2,))
-    return "mindlin" if all(supports_exponent(m2) for m2 in exponents) else "batched"
+    return not all(supports_exponent(float(m2)) for m2 in exponents)
+
+
+def rough_setups(model: Model, param_axes, amplitudes) -> float:
+    """The fraction [1] of a rough-exponent Mindlin sweep's set-ups (:func:`rough_exponents`)
+    that may leave contact, and so run on the batched kernel: those of a free vibration
+    from rest at A >= y0 (below, the motion stays in contact: it starts at rest at
+    y0 - A > 0 and no damping law adds energy); every set-up of a forced model, of a
+    parameter axis or without known amplitudes. 0 for every other sweep."""
+    if not rough_exponents(model, param_axes):
+        return 0.0
+    if model.excitation is not None or len(param_axes) > 0 or amplitudes is None:
+        return 1.0
+    amplitudes = np.asarray(amplitudes, dtype=float)
+    return float(np.mean(amplitudes >= model.params.static_deflection))
 
 
 def checked_backend(backend: Any, model: Model, method: str, param_axes=()) -> str:
@@ -63,12 +88,12 @@ def checked_backend(backend: Any, model: Model, method: str, param_axes=()) -> s
         return backend
     if method != "time":
         raise ValueError("backend='cuda' runs method='time' only; 'steady' runs on the CPU")
-    if time_kernel(model, param_axes) == "batched":
+    if rough_exponents(model, param_axes):
         raise ValueError(
             "backend='cuda' runs the shared-normal time kernels (a rigid contact, a "
             "TangentialSpring, a MindlinSpring at m2 = 1, 2 or >= 3); this "
             f"{type(model.tangential).__name__} at m2 = {model.params.m2!r} (or an m2 axis) "
-            "takes the batched kernel, which runs on the CPU"
+            "hands its set-ups with a flight to the batched kernel, which runs on the CPU"
         )
     from microslip.integrators.shared_lanes_cuda import cuda_unavailable
 
@@ -111,14 +136,23 @@ def estimate_work(
             rounds += budget.shared_chunk_rounds(rest)
         setup_steps = total_steps * rounds
         n_chunks = n_sets * (full + (1 if rest else 0))
-    kernel = time_kernel(model, param_axes)
+    kernel = time_kernel(model)
     tape_fraction, lane_fraction, stepped, cycles = 1.0, 1.0, 0, 0
     if method == "time" and kernel == "shared" and forces is not None and amplitudes is not None:
         tape_fraction, lane_fraction, stepped, cycles = repeated_tape_work(
             model, param_axes, forces, amplitudes, duration
         )
     values = n_forces + n_amplitudes + sum(len(v) for _, v in param_axes)
-    return budget.estimate_sweep(
+    handed_back = rough_setups(model, param_axes, amplitudes) if method == "time" else 0.0
+    if handed_back > 0.0:
+        # Set-ups that may leave contact at a rough exponent are handed back to the
+        # batched kernel: counted there too, on top of the lanes (an upper bound).
+        batched = budget.estimate_sweep(
+            method=method, n_sets=n_sets, n_forces=n_forces, n_amplitudes=n_amplitudes,
+            lane_steps=lane_steps * handed_back, chunk_points=n_forces * amplitude_chunk,
+            axis_values=values, kernel="batched",
+        )  # fmt: skip
+    estimate = budget.estimate_sweep(
         method=method,
         n_sets=n_sets,
         n_forces=n_forces,
@@ -134,6 +168,13 @@ def estimate_work(
         cycles=cycles,
         n_chunks=n_chunks,
     )
+    if handed_back > 0.0:
+        # One after the other in each chunk: the times add, the memory is the larger.
+        return budget.Estimate(
+            what=estimate.what, work=estimate.work, unit=estimate.unit,
+            seconds=estimate.seconds + batched.seconds, bytes=max(estimate.bytes, batched.bytes),
+        )  # fmt: skip
+    return estimate
 
 
 def repeats_from_rest(model: Model, amplitude: float) -> bool:
