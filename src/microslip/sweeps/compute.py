@@ -238,10 +238,17 @@ def _mindlin_run(models, coeffs, normal0, forces, duration, dt, periods, backend
         x[rest] = partial[0].reshape(len(models), forces.size)[rest]
     elif rest.size:
         x[rest] = lanes(rest)
-    for g in stalled:
-        states0 = np.zeros((forces.size, 4))
-        states0[:, :2] = normal0[g]
-        x[g] = _batched_run(models[g], forces, duration, dt, states0=states0).states[:, 2]
+    if stalled.size:
+        # One batched run for all of them: blocks full of lanes, spread over the threads
+        # (a lane's bits do not depend on its block).
+        from microslip.integrators.batched import simulate_batch
+
+        coeffs = np.repeat([models[g].pack(0.0) for g in stalled], forces.size, axis=0)
+        coeffs[:, FORCE] = np.tile(forces, stalled.size)
+        states0 = np.zeros((coeffs.shape[0], 4))
+        states0[:, :2] = np.repeat(normal0[stalled], forces.size, axis=0)
+        end = simulate_batch(coeffs, states0, duration, dt).states[:, 2]
+        x[stalled] = end.reshape(stalled.size, forces.size)
     return x.ravel()
 
 
