@@ -55,7 +55,8 @@ def turning_points(params: Parameters | Model, amplitude: float) -> tuple[float,
     y_top = params.static_deflection - amplitude
     if amplitude == 0.0:
         return y_top, y_top
-    return y_top, float(orbit.lowest_point(y_top, pack(params, 0.0)))
+    # The coefficient tuple, as the laws are compiled for it (docs/design.md).
+    return y_top, float(orbit.lowest_point(y_top, tuple(pack(params, 0.0))))
 
 
 def normal_energy(params: Parameters, y: np.ndarray, ydot: np.ndarray) -> np.ndarray:

@@ -47,6 +47,7 @@ from microslip.integrators.dp54_tableau import (
 )
 from microslip.integrators.kernel import as_tuple
 from microslip.model.coefficients import AREA_CN, EXPONENT, GRAVITY, MASS
+from microslip.model.contact import elastic_force, elastic_stiffness
 from microslip.model.normal import normal_acceleration
 from microslip.model.system import normal_acceleration_call
 
@@ -78,12 +79,13 @@ def potential(y, c):
 
 @njit(cache=True)
 def lowest_point(y_top, c):
-    """y_max > y0 with V(y_max) = V(y_top): Newton from above on the convex V."""
+    """y_max > y0 with V(y_max) = V(y_top): Newton from above on the convex V, whose
+    slope is the contact law less the weight. ``c``: the coefficient tuple."""
     y0 = static_deflection(c)
     energy = potential(y_top, c)
     y = 2.0 * y0 + 4.0 * (y0 - y_top)
     for _ in range(200):
-        slope = c[AREA_CN] * y ** c[EXPONENT] - c[MASS] * c[GRAVITY]
+        slope = elastic_force(y, c) - c[MASS] * c[GRAVITY]
         step = (potential(y, c) - energy) / slope
         y -= step
         if abs(step) <= 1e-15 * y:
@@ -155,21 +157,21 @@ def build_half_orbit(amplitude, c, steps_per_half, ys, yds, summary):
     The table step is π / (ω_max · steps_per_half), ω_max the largest local angular
     frequency sqrt(dR/dy / m) on the orbit. Returns False if the buffers are too short.
     """
-    g = c[GRAVITY]
-    y0 = static_deflection(c)
+    # The laws take the coefficients as a tuple, as every other path passes them: one
+    # compiled form of each (docs/design.md, "Compile time").
+    laws = as_tuple(c)
+    g = laws[GRAVITY]
+    y0 = static_deflection(laws)
     y_top = y0 - amplitude
-    y_bottom = lowest_point(y_top, c)
-    stiffness = c[EXPONENT] * c[AREA_CN] * y_bottom ** (c[EXPONENT] - 1.0)
-    h = math.pi / (math.sqrt(stiffness / c[MASS]) * steps_per_half)
+    y_bottom = lowest_point(y_top, laws)
+    stiffness = elastic_stiffness(y_bottom, laws)
+    h = math.pi / (math.sqrt(stiffness / laws[MASS]) * steps_per_half)
     if y_top < 0.0:  # free fall down to the first contact at y = 0
         t_flight = math.sqrt(-2.0 * y_top / g)
         y, v = 0.0, g * t_flight
     else:
         t_flight = 0.0
         y, v = y_top, 0.0
-    # The laws take the coefficients as a tuple, as every other path passes them: one
-    # compiled form of each (docs/design.md, "Compile time").
-    laws = as_tuple(c)
     capacity = ys.shape[0]
     ys[0] = y
     yds[0] = v
