@@ -9,11 +9,12 @@ from __future__ import annotations
 import argparse
 import sys
 import time
+from pathlib import Path
 
 import numpy as np
 
 from microslip.cli.commands import _check_method, _commit, _note, _output_path, _same_file
-from microslip.cli.interrupts import RUN
+from microslip.cli.interrupts import RUN, interrupt_for
 from microslip.cli.model_options import require_paper_tangential
 from microslip.cli.options import CliError, Options, gather, refuse_underscores
 
@@ -184,14 +185,13 @@ def cmd_sweep(args: argparse.Namespace) -> int:
                 "finished chunks are kept there for a rerun"
             ) from None
         except KeyboardInterrupt as interrupt:  # Ctrl-C or SIGTERM (keeps its kind)
-            if RUN.written:  # the outputs are complete: the chunks are not needed
-                remove_store(work_store)
+            _interrupted(interrupt, work_store)
+        except Exception:
+            if RUN.signal is None:
                 raise
-            if not work_store.exists():
-                raise
-            raise type(interrupt)(
-                f"finished chunks are kept in {work_store}; run the same command again to resume"
-            ) from None
+            # An interrupt that native code swallowed (a callback from LLVM while numba
+            # compiles), which then failed the compile: the same Ctrl-C, the same message.
+            _interrupted(interrupt_for(RUN.signal), work_store)
         remove_store(work_store)
     elapsed = time.perf_counter() - started
     v = ds["mean_velocity"].values
@@ -208,3 +208,19 @@ def cmd_sweep(args: argparse.Namespace) -> int:
         if plot is not None:
             print(f"wrote {plot}")
     return 0
+
+
+def _interrupted(interrupt: KeyboardInterrupt, work_store: Path) -> None:
+    """Raise ``interrupt`` (Ctrl-C or SIGTERM, keeping its kind) saying what is kept: the
+    finished chunks in ``work_store`` for a rerun to resume, unless the outputs are
+    already complete (then the chunks are removed) or there are none."""
+    from microslip.sweeps.store import remove_store
+
+    if RUN.written:  # the outputs are complete: the chunks are not needed
+        remove_store(work_store)
+        raise interrupt
+    if not work_store.exists():
+        raise interrupt
+    raise type(interrupt)(
+        f"finished chunks are kept in {work_store}; run the same command again to resume"
+    ) from None
