@@ -56,13 +56,16 @@ def test_only_the_contact_gap_of_a_rough_mindlin_contact_is_graded(tangential, m
             assert method_for(RK4, which, c) == RK4
 
 
-def _departure(t, target, start, dt):
+def _departure(t, target, start, dt, grading=None):
     """The ends of the steps that graded_target gives from t towards the grid point
-    ``target`` after a switch at ``start``, as the kernels take them (no switches)."""
+    ``target`` after a switch at ``start``, as the kernels take them (no switches);
+    ``grading`` (a list), where given, gets whether grading goes on past each end."""
     ends = []
     while True:
-        end, on_grid = graded_target(t, target, start, dt)
+        end, on_grid, still = graded_target(t, target, start, dt)
         ends.append(end)
+        if grading is not None:
+            grading.append(still)
         t = end
         if on_grid:
             return ends
@@ -70,7 +73,9 @@ def _departure(t, target, start, dt):
 
 def test_steps_double_from_the_switch_until_the_grid():
     dt = 1e-6
-    ends = _departure(0.0, dt, 0.0, dt)  # a switch on a grid point: the next is dt away
+    grading = []
+    ends = _departure(0.0, dt, 0.0, dt, grading)  # a switch on a grid point: dt to the next
+    assert grading == [True] * 8 + [False]  # grading ends with the step to the grid
     lengths = np.diff([0.0, *ends])
     assert lengths[0] == pytest.approx(GRADED_FINEST * dt, rel=1e-12)
     assert lengths[1] == pytest.approx(GRADED_FINEST * dt, rel=1e-12)
@@ -89,11 +94,14 @@ def test_a_switch_just_before_a_grid_point_is_graded_past_it():
     was found by). The kernels keep grading until a grid point dt/2 past the switch."""
     dt = 1.0
     start = -0.084
-    first = _departure(start, 0.0, start, dt)
+    grading = []
+    first = _departure(start, 0.0, start, dt, grading)
     assert first[-1] == 0.0
-    # the kernels go on grading: the next grid point is less than dt/2 from the switch
-    assert 0.0 - start < 0.5 * dt
-    second = _departure(0.0, 1.0, start, dt)
+    # grading goes on: that grid point is less than dt/2 from the switch
+    assert 0.0 - start < 0.5 * dt and grading[-1]
+    grading = []
+    second = _departure(0.0, 1.0, start, dt, grading)
+    assert grading[-1] is False and all(grading[:-1])  # it ends at the next grid point
     lengths = np.diff([0.0, *second])
     assert lengths[0] == pytest.approx(0.084, rel=1e-12)  # as long as the time since
     assert second[-1] == 1.0

@@ -134,15 +134,13 @@ def _scalar_step(s, mode, t, target, dt, graded_from, c, s1, have_s1, piece, tri
     while t < target:
         end = target
         if graded_from == graded_from:  # leaving a graded switch: as integrate_chunk
-            end, on_grid = graded_target(t, target, graded_from, dt)
-            if on_grid and target - graded_from >= 0.5 * dt:
+            end, _on_grid, grading = graded_target(t, target, graded_from, dt)
+            if not grading:
                 graded_from = math.nan
         h = end - t
-        if reuse and end == target:
-            reuse = False
-        else:
-            reuse = False
+        if not (reuse and end == target):
             rk4_step(s, t, h, mode, c, s1, work)
+        reuse = False
         if may_switch(t, h, mode, c, state_tuple(s), state_tuple(s1)):
             theta, which = piece_end(
                 RK4, s, s1, t, h, mode, c, 1.0, atol, piece, trial, extremum, work

@@ -66,17 +66,17 @@ def next_grid_point(t, t0, k, dt, t_end):
 
 @njit(cache=True)
 def graded_target(t, target, graded_from, dt):
-    """(end [s], on the grid) of a fixed step from t [s] towards the grid point
-    ``target`` [s] while leaving a graded switch made at ``graded_from`` [s]: the step
-    is as long as the time since the switch (at least GRADED_FINEST·dt), so steps
+    """(end [s], on the grid, still grading) of a fixed step from t [s] towards the grid
+    point ``target`` [s] while leaving a graded switch made at ``graded_from`` [s]: the
+    step is as long as the time since the switch (at least GRADED_FINEST·dt), so steps
     double from the switch until they reach the grid (docs/theory/numerics.md, "Order
     at a touchdown"). A doubled step that would end within half of itself of the grid
-    point goes to the grid point. The caller stops grading at the first grid point at
+    point goes to the grid point. Grading ends with the step to the first grid point at
     least dt/2 past the switch."""
     length = max(t - graded_from, dt * GRADED_FINEST)
     if t + 1.5 * length < target:
-        return t + length, False
-    return target, True
+        return t + length, False, True
+    return target, True, target - graded_from < 0.5 * dt
 
 
 @njit(cache=True)
@@ -165,8 +165,7 @@ def integrate_chunk(
             target, k = next_grid_point(t, t0, k, dt, t_end)
             on_grid = True
             if grading:
-                target, on_grid = graded_target(t, target, graded_from, dt)
-                grading = not (on_grid and target - graded_from >= 0.5 * dt)
+                target, on_grid, grading = graded_target(t, target, graded_from, dt)
             h = target - t
         else:
             h = min(h_ctrl, h_max)
