@@ -23,7 +23,6 @@ __all__ = [
     "normal_reaction",
     "potential_energy",
     "reaction_array",
-    "rough_at_touch",
 ]
 
 
@@ -56,21 +55,6 @@ def elastic_stiffness(delta, c):
     if m2 == 1.5:
         return 1.5 * c[AREA_CN] * math.sqrt(delta)
     return m2 * c[AREA_CN] * delta ** (m2 - 1.0)
-
-
-# Above this exponent δ^m2 (and a Mindlin stiffness ∝ δ^(m2-1)) has four bounded
-# derivatives at δ = 0+, all a 4th-order step needs.
-SMOOTH_EXPONENT = 4.0
-
-
-@njit(cache=True)
-def rough_at_touch(c):
-    """True when the law is too rough at δ = 0 for a fixed step to keep its order next
-    to a touchdown or a loss of contact: m2 not an integer and below 4, so that δ^m2
-    has an unbounded derivative of order 4 or less at δ = 0+ (a Mindlin stiffness
-    ∝ δ^(m2-1) one order sooner; docs/theory/numerics.md, "Order at a touchdown")."""
-    m2 = c[EXPONENT]
-    return m2 < SMOOTH_EXPONENT and m2 != np.floor(m2)
 
 
 @njit(cache=True, error_model="numpy")

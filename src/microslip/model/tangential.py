@@ -25,8 +25,8 @@ import numpy as np
 from numba import njit
 
 from microslip import _jit_cache  # noqa: F401  (registers the cache before any @njit)
-from microslip.model.coefficients import TANGENTIAL_KIND, TANGENTIAL_STIFFNESS
-from microslip.model.contact import elastic_stiffness, rough_at_touch
+from microslip.model.coefficients import EXPONENT, TANGENTIAL_KIND, TANGENTIAL_STIFFNESS
+from microslip.model.contact import elastic_stiffness
 from microslip.model.parameters import Parameters
 from microslip.model.parts import Part, part_field, relative_range
 
@@ -117,13 +117,20 @@ def is_compliant(c):
     return c[TANGENTIAL_KIND] != RIGID
 
 
+# Above this contact exponent a Mindlin stiffness ∝ δ^(m2-1) has the three bounded
+# derivatives at δ = 0+ that a 4th-order step needs of a rate.
+SMOOTH_MINDLIN_EXPONENT = 4.0
+
+
 @njit(cache=True)
 def stiffness_rough_at_touch(c):
     """True when k_t has a corner of fractional order at δ = 0+: a Mindlin stiffness
-    λ dN/dδ ∝ δ^(m2-1) on a contact law that is rough there
-    (:func:`~microslip.model.contact.rough_at_touch`). A point that sticks from a
-    touchdown then loads at a rate ∝ δ^(m2-1), singular for m2 < 2."""
-    return c[TANGENTIAL_KIND] == MINDLIN and rough_at_touch(c)
+    λ dN/dδ ∝ δ^(m2-1) with m2 not an integer and below 4, so that a derivative of
+    order 3 or less is unbounded there. A point that sticks from a touchdown then loads
+    at a rate ∝ δ^(m2-1) (singular for m2 < 2; docs/theory/numerics.md, "Order at a
+    touchdown")."""
+    m2 = c[EXPONENT]
+    return c[TANGENTIAL_KIND] == MINDLIN and m2 < SMOOTH_MINDLIN_EXPONENT and m2 != np.floor(m2)
 
 
 @njit(cache=True, error_model="numpy")
