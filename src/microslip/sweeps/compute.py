@@ -129,8 +129,8 @@ def forced_chunk(spec: SweepSpec, key: ChunkKey) -> np.ndarray:
         )
         half = 0.5 * FALLBACK_PERIODS * model.excitation.period
         dt = _time_step(spec, model)
-        states = _batched_run(model, forces, half, dt).states
-        end = _batched_run(model, forces, half, dt, states0=states).states
+        states = _batched_run([model], forces, half, dt).states
+        end = _batched_run([model], forces, half, dt, states0=states).states
         return ((end[:, 2] - states[:, 2]) / half)[:, None]
     return mean_velocities(table, model.params.mu, forces)[:, None]
 
@@ -241,29 +241,26 @@ def _mindlin_run(models, coeffs, normal0, forces, duration, dt, periods, backend
     if stalled.size:
         # One batched run for all of them: blocks full of lanes, spread over the threads
         # (a lane's bits do not depend on its block).
-        from microslip.integrators.batched import simulate_batch
-
-        coeffs = np.repeat([models[g].pack(0.0) for g in stalled], forces.size, axis=0)
-        coeffs[:, FORCE] = np.tile(forces, stalled.size)
-        states0 = np.zeros((coeffs.shape[0], 4))
+        states0 = np.zeros((stalled.size * forces.size, 4))
         states0[:, :2] = np.repeat(normal0[stalled], forces.size, axis=0)
-        end = simulate_batch(coeffs, states0, duration, dt).states[:, 2]
-        x[stalled] = end.reshape(stalled.size, forces.size)
+        run = _batched_run([models[g] for g in stalled], forces, duration, dt, states0)
+        x[stalled] = run.states[:, 2].reshape(stalled.size, forces.size)
     return x.ravel()
 
 
-def _batched_run(model, forces, duration, dt, states0=None):
+def _batched_run(models, forces, duration, dt, states0=None):
     """The batched RK4 run (:class:`~microslip.integrators.batched.BatchResult`) of step
-    ``dt`` [s], one lane per force [N], from ``states0`` at t = 0 (default: rest at y0, a
-    relaxed spring).
+    ``dt`` [s], one lane per (model, force [N]), model-major, from ``states0`` at t = 0
+    (default: rest at y0, a relaxed spring).
 
     ``duration`` must be a whole number of excitation periods when ``states0`` continues
     an earlier run (the excitation restarts at phase 0)."""
     from microslip.integrators.batched import simulate_batch
 
-    coeffs = np.repeat(model.pack(0.0)[None, :], forces.size, axis=0)
-    coeffs[:, FORCE] = forces
+    coeffs = np.repeat([model.pack(0.0) for model in models], forces.size, axis=0)
+    coeffs[:, FORCE] = np.tile(forces, len(models))
     if states0 is None:
-        states0 = np.zeros((forces.size, 4))
-        states0[:, 0] = model.params.static_deflection
+        states0 = np.zeros((coeffs.shape[0], 4))
+        states0[:, 0] = np.repeat([model.params.static_deflection for model in models],
+                                  forces.size)  # fmt: skip
     return simulate_batch(coeffs, states0, duration, dt)
