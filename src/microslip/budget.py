@@ -22,7 +22,6 @@ finishes in well under a millisecond for any valid input.
 from __future__ import annotations
 
 import math
-import os
 from dataclasses import dataclass
 from typing import Any
 
@@ -40,14 +39,11 @@ __all__ = [
     "Estimate",
     "WorkLimitError",
     "available_memory",
-    "batch_threads",
     "check",
     "check_fits",
     "default_save_every",
     "estimate_simulation",
-    "estimate_sweep",
     "event_steps_per_period",
-    "shared_chunk_rounds",
 ]
 
 TIME_LIMIT_S = 600.0  # a sane default: 10 minutes
@@ -62,56 +58,6 @@ DEFAULT_MAX_SAMPLES = 1_000_000  # default_save_every: ~100 MB of NetCDF output 
 EVENT_S_PER_STEP = 0.5e-6  # measured 0.31 us per DOP853 step (0.37 us keeping every step)
 RK4_S_PER_STEP = 0.25e-6  # measured 0.15 us per RK4 step (0.19 us keeping every step)
 S_PER_SAMPLE = 0.1e-6  # measured ~0.05 us per kept sample, on top of the step
-STEADY_S_PER_ORBIT = 20e-6  # measured 13.5 us per half-orbit table (per amplitude)
-# Re-measured 2026-11-24 after the table-read steady kernel (steady_state.mean_velocity_grid,
-# idle 2-core machine, both threads): 214 ns per point on 1e6 x 3, 223 ns on 1000 x 1000,
-# 213 ns on 2048 x 2048; rounded up ~3x (the machine may be loaded).
-STEADY_S_PER_POINT = 0.6e-6
-# "time" sweeps (microslip.integrators.shared_lanes): each normal set-up of a chunk (an
-# amplitude, or the one forced set-up) integrates its normal tape once, the set-ups in
-# parallel over the threads, and advances every force of it on the tape. Measured
-# 2026-11-24 on the paper's data, dt = T0/200, idle 2-core machine: 66 ns per set-up
-# step (the tape) on one thread, and 1.9 ns per lane-step per thread over a 256 x 256
-# map (0.05 s), switches included (~1 in 100 lane-steps, ~0.1-0.2 us each). Rounded up
-# ~3x and ~2x (the machine may be loaded). A free vibration's repeated tape takes a
-# fraction of this work (PARKED_LANE_PERIODS below).
-SHARED_S_PER_SETUP_STEP = 0.2e-6
-SHARED_S_PER_LANE_STEP = 4e-9
-# On a free vibration's repeated tape (integrators/periodic_tape.py) a set-up's tape is
-# one period and the tail, and a rigid lane that starts a period as it started the last
-# one takes the rest at once (integrators/lane_parking.py); one that accelerates for
-# ever (F > μ m g) never does. Measured 2026-11-27, the paper's 256 x 64 map, 1 thread:
-# 0.029, 0.038 and 0.054 s over 20, 74 and 297 periods, against 4.5 ms per period with
-# every lane stepped: 6-8 periods' worth (the last run's extra is its A = 0 set-up, which
-# has no period); rounded up 2x.
-PARKED_LANE_PERIODS = 16.0
-# A "time" chunk's own cost (its models, lane arrays, tapes' set-up, the thread hand-out):
-# measured 0.95 ms for a chunk of one lane on one set-up over 400 periods (its lane
-# parked), 2026-11-27.
-TIME_S_PER_CHUNK = 1e-3
-# Building a repeating set-up's one-period tape (periodic_tape.cycles, Python around the
-# compiled fill_tape): measured 0.047-0.053 ms per set-up, 2026-11-27; rounded up 3x.
-TIME_S_PER_CYCLE = 0.15e-3
-# One tape buffer per thread (normal_tape.TAPE_ROWS x ROW) and a piece vector.
-TAPE_BYTES = 2048 * 21 * 8 + 4096
-# "time" sweeps of a MindlinSpring whose contact exponent the Mindlin lanes do not run
-# (microslip.integrators.batched): every lane-step is the generic RK4 step with the
-# model's switching, the lanes in blocks over the threads. Measured 2026-11-26, 64 forces
-# x 16 set-ups, 0.02 s, 2 threads: 0.42 us per lane-step per thread (TangentialSpring,
-# free vibration), 1.34 us (MindlinSpring, Viscous + HarmonicForce); rounded up ~3x.
-BATCHED_S_PER_LANE_STEP = 4e-6
-# "time" sweeps of a TangentialSpring (microslip.integrators.spring_lanes): the tapes as
-# above, each lane-step the contact point's closed forms. Measured 2026-11-26, 64 forces
-# x 16 amplitudes, 0.05 s, dt = 1/200 of the tangential period, 2 threads: 12 ns per
-# lane-step per thread, switches included (~2 % of the lane-steps are searched, ~0.4 us
-# each); rounded up ~2.5x.
-SPRING_S_PER_LANE_STEP = 3e-8
-# "time" sweeps of a MindlinSpring (microslip.integrators.mindlin_lanes): the same lanes'
-# cost, and per set-up step the tape and the piece's stiffness, stop-function quartics
-# and stick series. Measured 2026-11-26, 8 set-ups x 1 and x 256 forces, 0.05 s, 1
-# thread: 0.38-0.53 us per set-up step, 5-6 ns per lane-step; rounded up ~3x (the lanes
-# as SPRING_S_PER_LANE_STEP).
-MINDLIN_S_PER_SETUP_STEP = 1.5e-6
 
 # DOP853 work per normal period T0 = 1/f0 (accepted + rejected steps + switching
 # instants), the worst of m2 in {1, 1.5, 2, 3}, F/(mu m g) in {-0.5, 0, 0.3, 0.9, 2},
@@ -130,13 +76,6 @@ EVENTS_PER_PERIOD = 6.0
 BYTES_PER_SAMPLE = 200
 BYTES_PER_EVENT = 150
 DRIVER_BUFFER_BYTES = (1 << 16) * 48 + (1 << 14) * 48  # integrators.driver buffers
-# Sweeps: the result array, the copy read back from the store, the Dataset written out.
-SWEEP_BYTES_PER_POINT = 32
-BATCH_BYTES_PER_LANE = 256  # coefficients, initial and final states, block scratch
-# A Python float in a tuple (32 B), its repr in the JSON definition and fingerprint.
-BYTES_PER_AXIS_VALUE = 200
-STEADY_BYTES_PER_AMPLITUDE = 3 * 8 * (16 * 256 + 16)  # one orbit table (ys, yds, ydds)
-STEADY_TABLES_HELD = 32  # steady_state.BATCH_AMPLITUDES: tables held at once
 
 
 class WorkLimitError(ValueError):
@@ -318,87 +257,3 @@ def default_save_every(
         dt = validation.real("dt", dt, minimum=0.0, strict=True)
     _steps, boundaries = _boundaries(params, duration, method, dt, rtol)
     return max(1, math.ceil(boundaries / max_samples))
-
-
-# -- sweeps ---------------------------------------------------------------------------------
-def batch_threads() -> int:
-    """Threads the batched kernel runs its blocks on: the CPUs this process may use."""
-    try:
-        return max(1, len(os.sched_getaffinity(0)))
-    except (AttributeError, OSError):
-        return max(1, os.cpu_count() or 1)
-
-
-def shared_chunk_rounds(setups: int, threads: int | None = None) -> int:
-    """Set-up rounds of a "time" chunk with ``setups`` normal set-ups, ``threads`` at a
-    time (default :func:`batch_threads`): each round integrates one tape per thread."""
-    threads = batch_threads() if threads is None else threads
-    return -(-int(setups) // threads)
-
-
-def estimate_sweep(
-    *,
-    method: str,
-    n_sets: int,
-    n_forces: int,
-    n_amplitudes: int,
-    lane_steps: float = 0.0,
-    setup_steps: float = 0.0,
-    chunk_points: int = 1,
-    axis_values: int = 0,
-    kernel: str = "shared",
-    tape_fraction: float = 1.0,
-    lane_fraction: float = 1.0,
-    stepped_steps: float = 0.0,
-    cycles: int = 0,
-    n_chunks: int = 0,
-) -> Estimate:
-    """Work, run time [s] and memory [bytes] of a sweep.
-
-    ``n_sets`` parameter sets, each on ``n_forces`` x ``n_amplitudes`` points. "steady":
-    one orbit table per (set, amplitude) and a cycle per point. "time": ``lane_steps``
-    trajectory-steps in all (the work reported); run time from ``setup_steps``, the sum
-    over chunks of grid steps x :func:`shared_chunk_rounds` (the tapes, a thread each),
-    each round also advancing its ``n_forces`` lanes (``kernel="spring"``: a
-    TangentialSpring's lanes; ``kernel="mindlin"``: a MindlinSpring's, whose set-up
-    steps cost more); with ``kernel="batched"`` (the set-ups the Mindlin lanes hand back) from
-    ``lane_steps`` spread over the threads. Where a free vibration's tape repeats, a
-    round costs ``tape_fraction`` and ``lane_fraction`` of the shared-normal kernels'
-    tape and lane work (:data:`PARKED_LANE_PERIODS`), each of its ``cycles`` set-ups
-    :data:`TIME_S_PER_CYCLE`, and the set-ups that do not repeat ``stepped_steps`` at the
-    full cost, each as a round of its own (it cannot be shared out); each of
-    ``n_chunks`` time chunks adds :data:`TIME_S_PER_CHUNK`. Memory:
-    the result
-    (``SWEEP_BYTES_PER_POINT`` per point) and the buffers of the chunk of
-    ``chunk_points`` points being computed (an in-process run computes one chunk at a
-    time; each Dask worker holds one more), and ``axis_values`` values of all axes
-    together at ``BYTES_PER_AXIS_VALUE`` each (the spec's tuples and its definition).
-    """
-    points = float(n_sets) * n_forces * n_amplitudes
-    if method == "steady":
-        orbits = float(n_sets) * n_amplitudes
-        seconds = orbits * STEADY_S_PER_ORBIT + points * STEADY_S_PER_POINT
-        buffers = 8 * chunk_points + STEADY_TABLES_HELD * STEADY_BYTES_PER_AMPLITUDE
-        work, unit = points, "points"
-    elif kernel == "batched":
-        seconds = lane_steps * BATCHED_S_PER_LANE_STEP / batch_threads()
-        buffers = BATCH_BYTES_PER_LANE * chunk_points
-        work, unit = lane_steps, "trajectory-steps"
-    else:
-        lane_cost = SHARED_S_PER_LANE_STEP if kernel == "shared" else SPRING_S_PER_LANE_STEP
-        setup_cost = MINDLIN_S_PER_SETUP_STEP if kernel == "mindlin" else SHARED_S_PER_SETUP_STEP
-        per_step = setup_cost + n_forces * lane_cost
-        repeated_step = setup_cost * tape_fraction + n_forces * lane_cost * lane_fraction
-        seconds = setup_steps * repeated_step + stepped_steps * per_step
-        seconds += cycles * TIME_S_PER_CYCLE
-        buffers = BATCH_BYTES_PER_LANE * chunk_points + batch_threads() * TAPE_BYTES
-        work, unit = lane_steps, "trajectory-steps"
-    if method == "time":
-        seconds += n_chunks * TIME_S_PER_CHUNK
-    return Estimate(
-        what=f"sweep (method={method!r}, {points:.3g} points)",
-        work=work,
-        unit=unit,
-        seconds=seconds,
-        bytes=points * SWEEP_BYTES_PER_POINT + buffers + axis_values * BYTES_PER_AXIS_VALUE,
-    )

@@ -13,7 +13,7 @@ import pytest
 import microslip as ms
 from microslip import budget
 from microslip.budget import WorkLimitError
-from microslip.sweeps import SweepSpec
+from microslip.sweeps import SweepSpec, cost
 
 P = ms.Parameters()
 T0 = P.natural_period
@@ -59,7 +59,7 @@ def test_map_on_1e5_by_1e5_points_is_refused():
 
 def test_time_map_of_100_s_is_refused(monkeypatch):
     """A damped free vibration is not periodic: every lane runs every step."""
-    monkeypatch.setattr(budget, "batch_threads", lambda: 2)  # the estimate of a 2-core machine
+    monkeypatch.setattr(cost, "batch_threads", lambda: 2)  # the estimate of a 2-core machine
     damped = ms.Model(P, damping=ms.Viscous(0.01))
     spec = SweepSpec.build(damped, None, MAP_F, MAP_A, method="time", duration=100.0)
     message = refused_quickly(spec.check_budget)
@@ -79,7 +79,7 @@ def test_a_free_vibrations_long_time_map_is_estimated_on_its_repeated_tape(monke
     step, as a round of its own (1 of the 77 rounds of the stepped estimate), and the
     estimate (~28 s on 2 cores; the same work, 8e11 trajectory-steps) is within the
     budget. Measured here: 181 x 151 over 2 s took 0.35 s."""
-    monkeypatch.setattr(budget, "batch_threads", lambda: 2)
+    monkeypatch.setattr(cost, "batch_threads", lambda: 2)
     spec = SweepSpec.build(None, None, MAP_F, MAP_A, method="time", duration=100.0)
     spec.check_budget()
     stepped = SweepSpec.build(
@@ -98,7 +98,7 @@ def test_repeated_tape_work_follows_the_tape_and_the_lanes():
     tape, lane, stepped, repeating = repeated_tape_work(free, (), forces, amplitudes, 0.05)
     # A repeating set-up takes 2 periods of tape and 16 of lanes; A = 0 does not repeat.
     assert tape == pytest.approx(2 / periods)
-    assert lane == pytest.approx(budget.PARKED_LANE_PERIODS / periods)
+    assert lane == pytest.approx(cost.PARKED_LANE_PERIODS / periods)
     assert (stepped, repeating) == (1, 15)
     # Lanes beyond μ m g (either direction) accelerate for ever: they never park.
     beyond = 1.5 * P.mu * P.mass * P.g * np.array([1.0, -1.0])

@@ -89,8 +89,8 @@ def test_time_estimate_is_not_below_the_measured_run(n_forces, n_amplitudes, mon
     """Never far below the run (the 1-lane case was estimated 85x too low), nor absurdly
     above it. The estimate counts a free vibration's repeated tape (one period per
     set-up, lanes that repeat a period take the rest at once: shared_lanes._run_cycle,
-    budget.PARKED_LANE_PERIODS): a damped one, whose lanes step through every period,
-    is held to the same bounds."""
+    microslip.sweeps.cost.PARKED_LANE_PERIODS): a damped one, whose lanes step through
+    every period, is held to the same bounds."""
     forces = np.linspace(0.2, 1.2, n_forces) if n_forces > 1 else [0.5]
     amplitudes = np.linspace(0.0, 3e-7, n_amplitudes) if n_amplitudes > 1 else [2.5e-7]
     periods = 20 if n_forces * n_amplitudes > 64 else 400

@@ -15,6 +15,7 @@ from microslip.analysis.steady_state import TANGENTIAL_INSTEAD
 from microslip.integrators.mindlin_lanes import supports_exponent
 from microslip.model.composition import Model
 from microslip.model.tangential import MindlinSpring, TangentialSpring
+from microslip.sweeps import cost
 from microslip.sweeps.axes import log_step_period
 from microslip.validation import DEFAULT_RK4_STEPS_PER_PERIOD
 
@@ -41,7 +42,7 @@ SWEEP_INSTEAD = (
 
 
 def time_kernel(model: Model) -> str:
-    """The kernel of a time sweep of ``model`` (:func:`microslip.budget.estimate_sweep`):
+    """The kernel of a time sweep of ``model`` (:func:`microslip.sweeps.cost.estimate_sweep`):
     "shared" (rigid contact), "spring" (TangentialSpring) or "mindlin" (MindlinSpring),
     each a shared-normal kernel (:mod:`microslip.integrators.shared_lanes`,
     :mod:`~microslip.integrators.spring_lanes`, :mod:`~microslip.integrators.mindlin_lanes`).
@@ -131,9 +132,9 @@ def estimate_work(
         lane_steps = total_steps * n_forces * n_amplitudes
         # Chunks: full ones of amplitude_chunk amplitudes and the remainder.
         full, rest = divmod(n_amplitudes, amplitude_chunk)
-        rounds = full * budget.shared_chunk_rounds(amplitude_chunk)
+        rounds = full * cost.shared_chunk_rounds(amplitude_chunk)
         if rest:
-            rounds += budget.shared_chunk_rounds(rest)
+            rounds += cost.shared_chunk_rounds(rest)
         setup_steps = total_steps * rounds
         n_chunks = n_sets * (full + (1 if rest else 0))
     kernel = time_kernel(model)
@@ -147,12 +148,12 @@ def estimate_work(
     if handed_back > 0.0:
         # Set-ups that may leave contact at a rough exponent are handed back to the
         # batched kernel: counted there too, on top of the lanes (an upper bound).
-        batched = budget.estimate_sweep(
+        batched = cost.estimate_sweep(
             method=method, n_sets=n_sets, n_forces=n_forces, n_amplitudes=n_amplitudes,
             lane_steps=lane_steps * handed_back, chunk_points=n_forces * amplitude_chunk,
             axis_values=values, kernel="batched",
         )  # fmt: skip
-    estimate = budget.estimate_sweep(
+    estimate = cost.estimate_sweep(
         method=method,
         n_sets=n_sets,
         n_forces=n_forces,
@@ -191,7 +192,7 @@ def repeats_from_rest(model: Model, amplitude: float) -> bool:
 
 def repeated_tape_work(model: Model, param_axes, forces, amplitudes, duration: float):
     """(tape, lane, stepped, repeating) of a rigid time sweep on a free vibration's
-    repeated tape (:data:`microslip.budget.PARKED_LANE_PERIODS`): the fractions [1] of a
+    repeated tape (:data:`microslip.sweeps.cost.PARKED_LANE_PERIODS`): the fractions [1] of a
     set-up's stepped tape and lane work left where it repeats (:func:`repeats_from_rest`:
     a one-period tape, and lanes with |F| <= μ m g that take about that many periods;
     those beyond accelerate for ever and take them all), counted over the longest of
@@ -214,6 +215,6 @@ def repeated_tape_work(model: Model, param_axes, forces, amplitudes, duration: f
     if periods < 2.0:
         return none
     sliding = float(np.mean(np.abs(np.asarray(forces)) > params.mu * params.mass * params.g))
-    lane = sliding + (1.0 - sliding) * min(1.0, budget.PARKED_LANE_PERIODS / periods)
+    lane = sliding + (1.0 - sliding) * min(1.0, cost.PARKED_LANE_PERIODS / periods)
     repeating = int(periodic.sum())
     return min(1.0, 2.0 / periods), lane, periodic.size - repeating, repeating
