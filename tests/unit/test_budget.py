@@ -75,10 +75,9 @@ def test_time_map_of_100_s_is_refused(monkeypatch):
 
 def test_a_free_vibrations_long_time_map_is_estimated_on_its_repeated_tape(monkeypatch):
     """Undamped, the same map's tapes are one period each and its lanes (all below μ m g)
-    park within a few periods: only the A = 0 set-up, which has no period, runs every
-    step, as a round of its own (1 of the 77 rounds of the stepped estimate), and the
-    estimate (~28 s on 2 cores; the same work, 8e11 trajectory-steps) is within the
-    budget. Measured here: 181 x 151 over 2 s took 0.35 s."""
+    park within a few periods, the rest at A = 0 (N = m g) included, and the estimate
+    (the same work, 8e11 trajectory-steps) is within the budget. Measured here: 181 x
+    151 over 2 s took 0.35 s."""
     monkeypatch.setattr(cost, "batch_threads", lambda: 2)
     spec = SweepSpec.build(None, None, MAP_F, MAP_A, method="time", duration=100.0)
     spec.check_budget()
@@ -95,24 +94,26 @@ def test_repeated_tape_work_follows_the_tape_and_the_lanes():
     free = ms.Model(P)
     forces, amplitudes = np.linspace(0.05, 0.95, 16), np.linspace(0.0, 3e-7, 16)
     periods = 0.05 / ms.free_period(P, 3e-7)  # the longest period of these amplitudes
-    tape, lane, stepped, repeating = repeated_tape_work(free, (), forces, amplitudes, 0.05)
-    # A repeating set-up takes 2 periods of tape and 16 of lanes; A = 0 does not repeat.
+    tape, lane, repeating = repeated_tape_work(free, (), forces, amplitudes, 0.05)
+    # A repeating set-up takes 2 periods of tape and 16 of lanes; every one repeats.
     assert tape == pytest.approx(2 / periods)
     assert lane == pytest.approx(cost.PARKED_LANE_PERIODS / periods)
-    assert (stepped, repeating) == (1, 15)
+    assert repeating == 16
+    # The rest at A = 0 repeats with T0 (N = m g for ever).
+    at_rest = repeated_tape_work(free, (), forces, np.zeros(4), 0.05)
+    assert at_rest == pytest.approx((2 * T0 / 0.05, 16 * T0 / 0.05, 4))
     # Lanes beyond μ m g (either direction) accelerate for ever: they never park.
     beyond = 1.5 * P.mu * P.mass * P.g * np.array([1.0, -1.0])
     assert repeated_tape_work(free, (), beyond, amplitudes, 0.05)[1] == 1.0
-    # Nothing repeats: damping, excitation, a parameter axis, under two periods, A = 0.
+    # Nothing repeats: damping, excitation, a parameter axis, under two periods.
     not_repeated = [
         (ms.Model(P, damping=ms.Viscous(0.01)), (), amplitudes, 0.05),
         (ms.Model(P, excitation=ms.HarmonicForce(1.0, 1400.0)), (), amplitudes, 0.05),
         (free, (("mu", (0.1, 0.2)),), amplitudes, 0.05),
         (free, (), amplitudes, 1.5 * ms.free_period(P, 3e-7)),
-        (free, (), np.zeros(4), 0.05),
     ]
     for model, axes, amps, duration in not_repeated:
-        assert repeated_tape_work(model, axes, forces, amps, duration) == (1.0, 1.0, 0, 0)
+        assert repeated_tape_work(model, axes, forces, amps, duration) == (1.0, 1.0, 0)
 
 
 def test_a_job_just_inside_the_time_limit_runs(monkeypatch):

@@ -250,6 +250,8 @@ def _run_cycle(cycle, shape, lanes, switches, flagged, n_active, park):
             n_live = parking.park(lanes, switches, flagged, book, n_live, k + 1, X, V, MODE)
             # The live lanes kept their order: the moving ones are still below n_active.
             n_active = _active_end(lanes, min(n_active, n_live))
+            if n_live == 0:
+                break  # every lane parked: the periods left cost nothing (a long run's)
     if n_live < n:
         parking.unpark(lanes, switches, flagged, book, n_live, repeats, X)
     return _lanes_over_rows(

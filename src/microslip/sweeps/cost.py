@@ -34,8 +34,9 @@ SHARED_S_PER_LANE_STEP = 4e-9
 # one takes the rest at once (integrators/lane_parking.py); one that accelerates for
 # ever (F > μ m g) never does. Measured 2026-11-27, the paper's 256 x 64 map, 1 thread:
 # 0.029, 0.038 and 0.054 s over 20, 74 and 297 periods, against 4.5 ms per period with
-# every lane stepped: 6-8 periods' worth (the last run's extra is its A = 0 set-up, which
-# has no period); rounded up 2x.
+# every lane stepped: 6-8 periods' worth (the last run's extra was its A = 0 set-up, then
+# stepped through every period); rounded up 2x. Once all of a set-up's lanes are
+# parked, its periods left cost nothing (shared_lanes._run_cycle).
 PARKED_LANE_PERIODS = 16.0
 # A "time" chunk's own cost (its models, lane arrays, tapes' set-up, the thread hand-out):
 # measured 0.95 ms for a chunk of one lane on one set-up over 400 periods (its lane
@@ -101,7 +102,6 @@ def estimate_sweep(
     kernel: str = "shared",
     tape_fraction: float = 1.0,
     lane_fraction: float = 1.0,
-    stepped_steps: float = 0.0,
     cycles: int = 0,
     n_chunks: int = 0,
 ) -> Estimate:
@@ -117,14 +117,12 @@ def estimate_sweep(
     ``lane_steps`` spread over the threads. Where a free vibration's tape repeats, a
     round costs ``tape_fraction`` and ``lane_fraction`` of the shared-normal kernels'
     tape and lane work (:data:`PARKED_LANE_PERIODS`), each of its ``cycles`` set-ups
-    :data:`TIME_S_PER_CYCLE`, and the set-ups that do not repeat ``stepped_steps`` at the
-    full cost, each as a round of its own (it cannot be shared out); each of
-    ``n_chunks`` time chunks adds :data:`TIME_S_PER_CHUNK`. Memory:
-    the result
-    (``SWEEP_BYTES_PER_POINT`` per point) and the buffers of the chunk of
-    ``chunk_points`` points being computed (an in-process run computes one chunk at a
-    time; each Dask worker holds one more), and ``axis_values`` values of all axes
-    together at ``BYTES_PER_AXIS_VALUE`` each (the spec's tuples and its definition).
+    :data:`TIME_S_PER_CYCLE`; each of ``n_chunks`` time chunks adds
+    :data:`TIME_S_PER_CHUNK`. Memory: the result (``SWEEP_BYTES_PER_POINT`` per point)
+    and the buffers of the chunk of ``chunk_points`` points being computed (an
+    in-process run computes one chunk at a time; each Dask worker holds one more), and
+    ``axis_values`` values of all axes together at ``BYTES_PER_AXIS_VALUE`` each (the
+    spec's tuples and its definition).
     """
     points = float(n_sets) * n_forces * n_amplitudes
     if method == "steady":
@@ -139,10 +137,8 @@ def estimate_sweep(
     else:
         lane_cost = SHARED_S_PER_LANE_STEP if kernel == "shared" else SPRING_S_PER_LANE_STEP
         setup_cost = MINDLIN_S_PER_SETUP_STEP if kernel == "mindlin" else SHARED_S_PER_SETUP_STEP
-        per_step = setup_cost + n_forces * lane_cost
-        repeated_step = setup_cost * tape_fraction + n_forces * lane_cost * lane_fraction
-        seconds = setup_steps * repeated_step + stepped_steps * per_step
-        seconds += cycles * TIME_S_PER_CYCLE
+        per_step = setup_cost * tape_fraction + n_forces * lane_cost * lane_fraction
+        seconds = setup_steps * per_step + cycles * TIME_S_PER_CYCLE
         buffers = BATCH_BYTES_PER_LANE * chunk_points + batch_threads() * TAPE_BYTES
         work, unit = lane_steps, "trajectory-steps"
     if method == "time":

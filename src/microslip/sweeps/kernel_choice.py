@@ -138,9 +138,9 @@ def estimate_work(
         setup_steps = total_steps * rounds
         n_chunks = n_sets * (full + (1 if rest else 0))
     kernel = time_kernel(model)
-    tape_fraction, lane_fraction, stepped, cycles = 1.0, 1.0, 0, 0
+    tape_fraction, lane_fraction, cycles = 1.0, 1.0, 0
     if method == "time" and kernel == "shared" and forces is not None and amplitudes is not None:
-        tape_fraction, lane_fraction, stepped, cycles = repeated_tape_work(
+        tape_fraction, lane_fraction, cycles = repeated_tape_work(
             model, param_axes, forces, amplitudes, duration
         )
     values = n_forces + n_amplitudes + sum(len(v) for _, v in param_axes)
@@ -165,7 +165,6 @@ def estimate_work(
         kernel=kernel,
         tape_fraction=tape_fraction,
         lane_fraction=lane_fraction,
-        stepped_steps=total_steps * stepped,
         cycles=cycles,
         n_chunks=n_chunks,
     )
@@ -181,40 +180,38 @@ def estimate_work(
 def repeats_from_rest(model: Model, amplitude: float) -> bool:
     """Whether the normal motion of ``model`` from rest at amplitude A [m] above its
     equilibrium repeats from t = 0: a conservative free vibration (no damping, no
-    excitation) with 0 < A <= max_amplitude, whose tape is one period, repeated
-    (:mod:`~microslip.integrators.periodic_tape`)."""
+    excitation) with 0 <= A <= max_amplitude, whose tape is one period, repeated
+    (:mod:`~microslip.integrators.periodic_tape`). At A = 0 the slider rests at its
+    equilibrium, N = m g for ever: periodic with any period, T0 taken
+    (:func:`~microslip.analysis.free_vibration.free_period`)."""
     return (
         model.damping is None
         and model.excitation is None
-        and 0.0 < amplitude <= model.params.max_amplitude
+        and 0.0 <= amplitude <= model.params.max_amplitude
     )
 
 
 def repeated_tape_work(model: Model, param_axes, forces, amplitudes, duration: float):
-    """(tape, lane, stepped, repeating) of a rigid time sweep on a free vibration's
-    repeated tape (:data:`microslip.sweeps.cost.PARKED_LANE_PERIODS`): the fractions [1] of a
-    set-up's stepped tape and lane work left where it repeats (:func:`repeats_from_rest`:
-    a one-period tape, and lanes with |F| <= μ m g that take about that many periods;
+    """(tape, lane, repeating) of a rigid time sweep on a free vibration's repeated tape
+    (:data:`microslip.sweeps.cost.PARKED_LANE_PERIODS`): the fractions [1] of a set-up's
+    stepped tape and lane work left where it repeats (:func:`repeats_from_rest`: a
+    one-period tape, and lanes with |F| <= μ m g that take about that many periods;
     those beyond accelerate for ever and take them all), counted over the longest of
     the periods at the smallest and largest A (the fewest periods: the larger
-    fractions); and the numbers of set-ups that do not repeat (A = 0) and that do.
-    (1, 1, 0, 0), every set-up at the full cost, where the tape is not repeated: damping,
+    fractions); and the number of set-ups, each of which builds its one-period tape.
+    (1, 1, 0), every set-up at the full cost, where the tape is not repeated: damping,
     excitation, a parameter axis, or fewer than two periods."""
-    none = (1.0, 1.0, 0, 0)
-    if len(param_axes) > 0:
+    none = (1.0, 1.0, 0)
+    if len(param_axes) > 0 or model.damping is not None or model.excitation is not None:
         return none
     from microslip.analysis.free_vibration import free_period
 
     params = model.params
     amplitudes = np.asarray(amplitudes, dtype=float)
-    periodic = np.array([repeats_from_rest(model, float(a)) for a in amplitudes], dtype=bool)
-    if not periodic.any():
-        return none
-    ends = (amplitudes[periodic].min(), amplitudes[periodic].max())
-    periods = duration / max(free_period(params, float(a)) for a in ends)
+    ends = (float(amplitudes.min()), float(amplitudes.max()))
+    periods = duration / max(free_period(params, a) for a in ends)
     if periods < 2.0:
         return none
     sliding = float(np.mean(np.abs(np.asarray(forces)) > params.mu * params.mass * params.g))
     lane = sliding + (1.0 - sliding) * min(1.0, cost.PARKED_LANE_PERIODS / periods)
-    repeating = int(periodic.sum())
-    return min(1.0, 2.0 / periods), lane, periodic.size - repeating, repeating
+    return min(1.0, 2.0 / periods), lane, amplitudes.size
