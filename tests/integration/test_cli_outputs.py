@@ -164,6 +164,31 @@ def test_ctrl_c_in_simulate_is_one_line_exit_130_and_no_file(tmp_path):
     assert list(tmp_path.iterdir()) == []
 
 
+def test_ctrl_c_in_a_long_map_chunk_stops_at_once_and_keeps_the_store(tmp_path):
+    """One chunk of hours in compiled code (a lane above μ m g never repeats a period):
+    the Ctrl-C is raised while the chunk runs, not when it ends (threads.run_ranges)."""
+    ms.velocity_map(forces=[1.5], amplitudes=[1e-7], method="time", duration=1e-3)
+    out = tmp_path / "map.nc"
+    command = [*_microslip(), "map", "--force", "1.5", "--amplitude", "1e-7", "--method"]
+    command += ["time", "--duration", "1e5", "--allow-large", "--quiet", "--out", str(out)]
+    process = subprocess.Popen(command, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    store = tmp_path / "map.nc.partial.zarr"
+    deadline = time.time() + 120
+    while time.time() < deadline and process.poll() is None and not store.exists():
+        time.sleep(0.02)
+    time.sleep(2.0)  # inside the compiled chunk by now
+    assert process.poll() is None, process.communicate()
+    process.send_signal(signal.SIGINT)
+    try:
+        _, err = process.communicate(timeout=60)
+    except subprocess.TimeoutExpired:
+        process.kill()
+        _, err = process.communicate()
+        pytest.fail(f"the map went on for 60 s after its SIGINT: {err!r}")
+    assert_one_line_failure(process.returncode, err, "interrupted", "resume", code=130)
+    assert store.exists() and not out.exists()
+
+
 def test_second_map_on_the_same_output_stops_at_once(tmp_path):
     out = tmp_path / "map.nc"
     long_map = ["map", "--force", "0.05:0.95:40", "--amplitude", "0:3e-7:150", "--chunk", "1"]

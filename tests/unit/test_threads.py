@@ -3,6 +3,8 @@ asked number of threads; an error in any range stops the handing out and is rais
 
 from __future__ import annotations
 
+import os
+import signal
 import threading
 import time
 
@@ -43,15 +45,60 @@ def test_default_ranges_per_thread(two_threads):
     assert max(sizes) == per_task and sum(sizes) == 1000
 
 
-def test_one_thread_runs_in_the_caller():
+def test_one_thread_runs_in_the_caller_off_the_main_thread_or_when_short():
+    """Off the main thread (a Dask worker), or for short calls (``interruptible=False``),
+    one thread is the caller itself: no hand-off to a helper."""
+    idents, caller = set(), []
+
+    def call(interruptible):
+        caller.append(threading.get_ident())
+        numba.set_num_threads(1)  # per thread
+        threads.run_ranges(
+            lambda lo, hi: idents.add(threading.get_ident()), 10, per_task=1,
+            interruptible=interruptible,
+        )  # fmt: skip
+
+    worker = threading.Thread(target=call, args=(True,))
+    worker.start()
+    worker.join()
     before = numba.get_num_threads()
-    numba.set_num_threads(1)
     try:
-        idents = set()
-        threads.run_ranges(lambda lo, hi: idents.add(threading.get_ident()), 10, per_task=1)
+        call(False)
     finally:
         numba.set_num_threads(before)
-    assert idents == {threading.get_ident()}
+    assert idents == set(caller) and len(caller) == 2
+
+
+@numba.njit(nogil=True)
+def _spin(lo, hi, iterations, done):
+    """Compiled code that holds off signals: a chain of dependent multiply-adds that
+    cannot be folded or vectorised (no fastmath), ~1 s per 3e8 iterations."""
+    x = 0.0
+    for _ in range(iterations):
+        x = x * 1.0000001 + 1e-9
+    done[lo] = 1.0 + 0.0 * x
+
+
+@pytest.mark.parametrize("n_threads", [1, 2])
+def test_ctrl_c_in_compiled_ranges_is_raised_at_once(n_threads):
+    """On the main thread the ranges run on helpers and this thread waits where a
+    signal reaches it: a Ctrl-C while a compiled range runs is raised before that range
+    ends (before, the caller ran a range itself, and its Ctrl-C came when the range
+    ended). The range goes on to its end in the background."""
+    before = numba.get_num_threads()
+    numba.set_num_threads(min(n_threads, numba.config.NUMBA_NUM_THREADS))
+    done = np.zeros(2)
+    _spin(0, 1, 0, done)  # compiled before the clock starts
+    done[:] = 0.0
+    timer = threading.Timer(0.5, os.kill, (os.getpid(), signal.SIGINT))
+    try:
+        timer.start()
+        with pytest.raises(KeyboardInterrupt):
+            threads.run_ranges(_spin, 2, 10**9, done, per_task=1)  # seconds
+        assert done[0] == 0.0  # the range was still running
+    finally:
+        timer.cancel()
+        numba.set_num_threads(before)
 
 
 @pytest.mark.skipif(numba.config.NUMBA_NUM_THREADS < 2, reason="needs two CPUs")

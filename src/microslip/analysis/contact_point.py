@@ -313,7 +313,7 @@ def steady_friction(speeds, mu_s, mu_k, kconst, lam, pieces, src, period, max_pe
     tol_f, tol_s = _TOL * mu_s * n_max, _TOL * mu_k * rate_scale
     threads.run_ranges(
         _steady_rows, speeds.shape[0], speeds, mu_s, mu_k, kconst, lam, pieces, src, period,
-        max_periods, tol_f, tol_s, out,
+        max_periods, tol_f, tol_s, out, interruptible=False,
     )  # fmt: skip
 
 

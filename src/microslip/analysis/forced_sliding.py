@@ -377,7 +377,7 @@ def mean_velocities(table: SlidingTable, mu: float, forces: np.ndarray) -> np.nd
     out = np.empty(forces.shape[0])
     threads.run_ranges(
         _mean_velocities, forces.shape[0], forces, float(mu), *table._args(), table.samples,
-        table.ts, table.qs, table.ns, table.start, out,
+        table.ts, table.qs, table.ns, table.start, out, interruptible=False,
     )  # fmt: skip
     return out
 

@@ -355,7 +355,7 @@ def propagate_each(cs, starts, durations, n_steps, record, ends, phis, summaries
     """
     threads.run_ranges(
         _propagate_rows, cs.shape[0], cs, starts, durations, n_steps, record, ends, phis,
-        summaries, variational,
+        summaries, variational, interruptible=False,
     )  # fmt: skip
 
 

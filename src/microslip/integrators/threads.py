@@ -14,13 +14,18 @@ compiled once more as a gufunc (docs/design.md, "Threads"). A kernel compiled wi
 The ranges are handed out in order, each to the next thread that is free, so a costly
 item does not hold up a fixed share of the others. Every item's arithmetic is its own:
 the results do not depend on the number of threads or on which thread ran which range.
+
+Compiled code holds a signal off until it returns, and a map's chunk may run for
+minutes: called from the main thread, :func:`run_ranges` runs every range on a helper
+and waits where Ctrl-C reaches it, and raises it at once.
 """
 
 from __future__ import annotations
 
+import queue
 import threading
 from collections.abc import Callable
-from concurrent.futures import Future, ThreadPoolExecutor
+from concurrent.futures import Future
 from typing import Any
 
 import numba
@@ -29,10 +34,6 @@ from microslip import _jit_cache  # noqa: F401  (registers the cache before any 
 
 __all__ = ["run_ranges", "thread_count"]
 
-_pool_lock = threading.Lock()
-_pool: ThreadPoolExecutor | None = None
-_pool_size = 0
-
 
 def thread_count() -> int:
     """Threads the kernels run on: numba's thread count (``numba.set_num_threads``,
@@ -40,17 +41,46 @@ def thread_count() -> int:
     return int(numba.get_num_threads())
 
 
-def _helpers(count: int) -> ThreadPoolExecutor:
-    """A pool of at least ``count`` threads, kept between calls (a call takes
-    milliseconds on the smallest maps: starting threads each time would show)."""
-    global _pool, _pool_size
-    with _pool_lock:
-        if _pool is None or _pool_size < count:
-            if _pool is not None:
-                _pool.shutdown(wait=False)
-            _pool = ThreadPoolExecutor(count, thread_name_prefix="microslip")
-            _pool_size = count
-        return _pool
+class _Pool:
+    """Daemon threads kept between calls (a call takes milliseconds on the smallest maps:
+    starting threads each time would show), at least as many idle as a call asks for.
+
+    Not :class:`concurrent.futures.ThreadPoolExecutor`: its threads are joined when the
+    interpreter exits, so a range abandoned by an interrupt (:func:`run_ranges`) would
+    hold the exit until its compiled code ends, and the ranges of the next call would
+    queue behind it. Here a busy thread is not counted as idle: the next call gets new
+    threads, and the exit does not wait."""
+
+    def __init__(self) -> None:
+        self._lock = threading.Lock()
+        self._tasks: queue.SimpleQueue = queue.SimpleQueue()
+        self._idle = 0
+
+    def submit(self, function: Callable[[], Any], count: int) -> list[Future]:
+        """``count`` futures of ``function()``, each on a thread of its own if free."""
+        futures = [Future() for _ in range(count)]
+        with self._lock:
+            for _ in range(count - self._idle):
+                threading.Thread(target=self._serve, name="microslip", daemon=True).start()
+                self._idle += 1
+            self._idle -= count
+        for future in futures:
+            self._tasks.put((function, future))
+        return futures
+
+    def _serve(self) -> None:
+        while True:
+            function, future = self._tasks.get()
+            if future.set_running_or_notify_cancel():
+                try:
+                    future.set_result(function())
+                except BaseException as error:  # Ctrl-C included: the caller raises it
+                    future.set_exception(error)
+            with self._lock:
+                self._idle += 1
+
+
+_POOL = _Pool()
 
 
 # Ranges per thread when the items are cheap and many: enough for the threads to even out
@@ -59,32 +89,47 @@ RANGES_PER_THREAD = 8
 
 
 def run_ranges(
-    kernel: Callable[..., Any], n_items: int, *args: Any, per_task: int | None = None
+    kernel: Callable[..., Any],
+    n_items: int,
+    *args: Any,
+    per_task: int | None = None,
+    interruptible: bool = True,
 ) -> None:
     """``kernel(lo, hi, *args)`` on consecutive ranges of at most ``per_task`` items that
     cover [0, n_items) (default: about RANGES_PER_THREAD ranges per thread; 1 where
     each item is a long job of its own), on :func:`thread_count` threads: this one and
     helpers. The kernel must release the GIL (``nogil=True``) and write its results into
-    ``args``. An exception in a range (Ctrl-C included) stops the handing out of ranges,
-    and is raised here once the ranges already running have ended."""
+    ``args``. An exception in a range stops the handing out of ranges, and is raised
+    here once the ranges already running have ended.
+
+    Called from the main thread, every range runs on a helper while this thread waits,
+    so that Ctrl-C and SIGTERM reach it at once: compiled code holds a signal off until
+    it returns. The interrupt is raised here without waiting for the ranges already
+    running (they cannot be stopped; they end on their own and their results, written
+    into ``args``, are not to be read). That hand-off costs ~0.1 ms a call: a caller
+    whose calls are short and many (an analysis's per-orbit work, milliseconds each)
+    passes ``interruptible=False``, and this thread then takes its share of the ranges,
+    as it does from another thread (a Dask worker), and runs them all itself on one
+    thread."""
     count = thread_count()
     if per_task is None:
         per_task = -(-n_items // (count * RANGES_PER_THREAD))
     per_task = max(1, int(per_task))
     ranges = [(lo, min(lo + per_task, n_items)) for lo in range(0, n_items, per_task)]
     threads = min(count, len(ranges))
-    if threads <= 1:
+    on_main = interruptible and threading.current_thread() is threading.main_thread()
+    if threads <= 1 and not on_main:
         for lo, hi in ranges:
             kernel(lo, hi, *args)
         return
     lock = threading.Lock()
-    queue = iter(ranges)
+    pending = iter(ranges)
     stop = threading.Event()
 
     def work() -> None:
         while not stop.is_set():
             with lock:
-                item = next(queue, None)
+                item = next(pending, None)
             if item is None:
                 return
             try:
@@ -93,17 +138,39 @@ def run_ranges(
                 stop.set()
                 raise
 
-    helpers: list[Future] = [_helpers(threads - 1).submit(work) for _ in range(threads - 1)]
-    try:
-        work()
-    finally:
-        stop.set()
-        # A helper still queued behind another call's work has nothing left to do.
-        for future in helpers:
-            future.cancel()
-        for future in helpers:
-            if not future.cancelled():
-                future.exception()  # waits for it to end
+    if not on_main:
+        # A worker's call (Dask), where no signal comes, or short calls: the caller
+        # takes its share.
+        helpers = _POOL.submit(work, threads - 1)
+        try:
+            work()
+        finally:
+            _wait_for(helpers, stop)
+    else:
+        # Every range on a helper, this thread waiting where a signal can reach it:
+        # compiled code holds off Ctrl-C until it returns, which may be minutes.
+        helpers = _POOL.submit(work, threads)
+        try:
+            for future in helpers:
+                future.exception()
+        except BaseException:
+            # Ctrl-C or SIGTERM: raised at once. The ranges already running cannot be
+            # stopped from here; they end on their own, their results unread.
+            stop.set()
+            for future in helpers:
+                future.cancel()
+            raise
     for future in helpers:
         if not future.cancelled() and future.exception() is not None:
             raise future.exception()
+
+
+def _wait_for(helpers: list[Future], stop: threading.Event) -> None:
+    """Stop handing out ranges and wait for the helpers' running ones to end."""
+    stop.set()
+    # A helper still queued behind another call's work has nothing left to do.
+    for future in helpers:
+        future.cancel()
+    for future in helpers:
+        if not future.cancelled():
+            future.exception()  # waits for it to end
