@@ -191,10 +191,11 @@ def test_ctrl_c_in_a_long_map_chunk_stops_at_once_and_keeps_the_store(tmp_path):
 
 def test_second_map_on_the_same_output_stops_at_once(tmp_path):
     out = tmp_path / "map.nc"
-    long_map = ["map", "--force", "0.05:0.95:40", "--amplitude", "0:3e-7:150", "--chunk", "1"]
-    # Long enough (~2 min on one core, cold) that the first run is still computing when the
-    # second has started and stopped: at duration 1.0 s the shared-normal kernel finished
-    # it in a few seconds, and it could end before its SIGINT (exit 0, a CI failure).
+    long_map = ["map", "--force", "1.0:1.9:40", "--amplitude", "0:3e-7:150", "--chunk", "1"]
+    # Long enough (minutes) that the first run is still computing when the second has
+    # started and stopped: forces above μ m g = 0.981 N slide for ever, so no lane repeats
+    # a period and every period is stepped. (Below it the lanes park and a set-up skips
+    # the periods left: the map then ends in seconds, before its SIGINT, exit 0.)
     long_map += ["--method", "time", "--duration", "10.0", "--quiet", "--out", str(out)]
     first = subprocess.Popen(
         [*_microslip(), *long_map], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True
