@@ -14,9 +14,10 @@ from microslip import validation as check
 from microslip.analysis.steady_state import TANGENTIAL_INSTEAD
 from microslip.integrators.mindlin_lanes import supports_exponent
 from microslip.model.composition import Model
+from microslip.model.parameters import Parameters
 from microslip.model.tangential import MindlinSpring, TangentialSpring
 from microslip.sweeps import cost
-from microslip.sweeps.axes import log_step_period
+from microslip.sweeps.axes import field_grid, grid_logs, log_step_period
 from microslip.validation import DEFAULT_RK4_STEPS_PER_PERIOD
 
 __all__ = [
@@ -196,22 +197,42 @@ def repeated_tape_work(model: Model, param_axes, forces, amplitudes, duration: f
     (:data:`microslip.sweeps.cost.PARKED_LANE_PERIODS`): the fractions [1] of a set-up's
     stepped tape and lane work left where it repeats (:func:`repeats_from_rest`: a
     one-period tape, and lanes with |F| <= μ m g that take about that many periods;
-    those beyond accelerate for ever and take them all), counted over the longest of
-    the periods at the smallest and largest A (the fewest periods: the larger
-    fractions); and the number of set-ups, each of which builds its one-period tape.
-    (1, 1, 0), every set-up at the full cost, where the tape is not repeated: damping,
-    excitation, a parameter axis, or fewer than two periods."""
+    those beyond accelerate for ever and take them all), and the number of set-ups,
+    each of which builds its one-period tape. (1, 1, 0), every set-up at the full cost,
+    where the tape is not repeated: damping, excitation, or fewer than two periods.
+
+    Upper bounds over the parameter sets: the fewest periods (the longest of the
+    periods at the smallest and largest A of any set) and the largest share of forces
+    beyond μ m g in a set. T(A)/T0 depends on A/y0 and m2 alone (with u = y/y0 and
+    s = t/T0 the free vibration is u'' = (2π)²/m2 (1 - u^m2), and (2π)²/m2 in flight:
+    docs/theory/free_vibration.md), so it is computed once per exponent, at the extreme
+    ratios A/y0 of the sets."""
     none = (1.0, 1.0, 0)
-    if len(param_axes) > 0 or model.damping is not None or model.excitation is not None:
+    if model.damping is not None or model.excitation is not None:
         return none
     from microslip.analysis.free_vibration import free_period
 
-    params = model.params
+    grid = {name: np.ravel(value) for name, value in field_grid(model.params, param_axes).items()}
+    logs = {name: np.ravel(value) for name, value in grid_logs(model.params, param_axes).items()}
+    y0, t0 = 10.0 ** logs["y0"], 10.0 ** logs["T0"]
     amplitudes = np.asarray(amplitudes, dtype=float)
-    ends = (float(amplitudes.min()), float(amplitudes.max()))
-    periods = duration / max(free_period(params, a) for a in ends)
+    ratio_cap = model.params.max_amplitude / model.params.static_deflection
+    longest = 0.0
+    for m2 in np.unique(grid["m2"]):
+        sets = np.flatnonzero(grid["m2"] == m2)
+        one = Parameters(**{name: float(values[sets[0]]) for name, values in grid.items()})
+        ratios = (amplitudes.min() / y0[sets].max(), amplitudes.max() / y0[sets].min())
+        stretch = max(
+            free_period(one, min(r, ratio_cap) * one.static_deflection) / one.natural_period
+            for r in ratios
+        )
+        longest = max(longest, stretch * float(t0[sets].max()))
+    periods = duration / longest
     if periods < 2.0:
         return none
-    sliding = float(np.mean(np.abs(np.asarray(forces)) > params.mu * params.mass * params.g))
+    limits = grid["mu"] * grid["mass"] * grid["g"]  # μ m g [N] per set
+    magnitudes = np.sort(np.abs(np.asarray(forces, dtype=float)))
+    at_most = np.searchsorted(magnitudes, limits, side="right")  # forces <= the limit
+    sliding = 1.0 - float(at_most.min()) / magnitudes.size
     lane = sliding + (1.0 - sliding) * min(1.0, cost.PARKED_LANE_PERIODS / periods)
-    return min(1.0, 2.0 / periods), lane, amplitudes.size
+    return min(1.0, 2.0 / periods), lane, amplitudes.size * int(limits.size)
