@@ -164,6 +164,17 @@ def test_ctrl_c_in_simulate_is_one_line_exit_130_and_no_file(tmp_path):
     assert list(tmp_path.iterdir()) == []
 
 
+def _interrupt_and_wait(process: subprocess.Popen) -> str:
+    """SIGINT to ``process``; its stderr once it has ended (fails after 60 s)."""
+    process.send_signal(signal.SIGINT)
+    try:
+        return process.communicate(timeout=60)[1]
+    except subprocess.TimeoutExpired:
+        process.kill()
+        err = process.communicate()[1]
+        pytest.fail(f"the run went on for 60 s after its SIGINT: {err!r}")
+
+
 def test_ctrl_c_in_a_long_map_chunk_stops_at_once_and_keeps_the_store(tmp_path):
     """One chunk of hours in compiled code (a lane above μ m g never repeats a period):
     the Ctrl-C is raised while the chunk runs, not when it ends (threads.run_ranges)."""
@@ -178,13 +189,7 @@ def test_ctrl_c_in_a_long_map_chunk_stops_at_once_and_keeps_the_store(tmp_path):
         time.sleep(0.02)
     time.sleep(2.0)  # inside the compiled chunk by now
     assert process.poll() is None, process.communicate()
-    process.send_signal(signal.SIGINT)
-    try:
-        _, err = process.communicate(timeout=60)
-    except subprocess.TimeoutExpired:
-        process.kill()
-        _, err = process.communicate()
-        pytest.fail(f"the map went on for 60 s after its SIGINT: {err!r}")
+    err = _interrupt_and_wait(process)
     assert_one_line_failure(process.returncode, err, "interrupted", "resume", code=130)
     assert store.exists() and not out.exists()
 
@@ -220,13 +225,7 @@ def test_second_map_on_the_same_output_stops_at_once(tmp_path):
         while time.time() < deadline and first.poll() is None and not store.exists():
             time.sleep(0.02)
     finally:
-        first.send_signal(signal.SIGINT)
-        try:
-            _, first_err = first.communicate(timeout=60)
-        except subprocess.TimeoutExpired:
-            first.kill()
-            _, first_err = first.communicate()
-            pytest.fail(f"the first run went on for 60 s after its SIGINT: {first_err!r}")
+        first_err = _interrupt_and_wait(first)
     assert first.returncode == 130
     assert_one_line_failure(130, first_err, "interrupted", "resume", code=130)
     assert not out.exists() and not lock.exists()
