@@ -143,3 +143,27 @@ def test_a_compiled_kernel_that_releases_the_gil(two_threads):
     out = np.zeros_like(x)
     threads.run_ranges(square, x.size, x, out)
     assert np.array_equal(out, x * x)
+
+
+def _ranges_in_a_child(queue):
+    seen = np.zeros(16)
+    threads.run_ranges(lambda lo, hi: seen.__setitem__(slice(lo, hi), 1.0), 16, per_task=2)
+    queue.put(seen.sum())
+
+
+@pytest.mark.skipif(not hasattr(os, "fork"), reason="needs fork")
+def test_a_forked_child_runs_its_ranges(two_threads):
+    """A child forked after the parent used the pool has none of its threads: its ranges
+    must still run (a pool that counted the parent's idle threads waited for ever)."""
+    import multiprocessing
+
+    threads.run_ranges(lambda lo, hi: None, 16, per_task=2)  # the parent's threads exist
+    context = multiprocessing.get_context("fork")
+    queue = context.Queue()
+    child = context.Process(target=_ranges_in_a_child, args=(queue,))
+    child.start()
+    child.join(60)
+    if child.is_alive():
+        child.kill()
+        pytest.fail("the forked child's ranges never ran")
+    assert child.exitcode == 0 and queue.get(timeout=5) == 16.0

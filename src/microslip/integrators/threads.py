@@ -22,6 +22,7 @@ and waits where Ctrl-C reaches it, and raises it at once.
 
 from __future__ import annotations
 
+import os
 import queue
 import threading
 from collections.abc import Callable
@@ -81,6 +82,16 @@ class _Pool:
 
 
 _POOL = _Pool()
+
+
+def _new_pool_after_fork() -> None:
+    """A forked child has none of the parent's threads: a new, empty pool (the parent's
+    idle count would send its ranges to threads that do not exist, and wait for ever)."""
+    global _POOL
+    _POOL = _Pool()
+
+
+os.register_at_fork(after_in_child=_new_pool_after_fork)
 
 
 # Ranges per thread when the items are cheap and many: enough for the threads to even out
