@@ -212,15 +212,16 @@ def repeated_tape_work(model: Model, param_axes, forces, amplitudes, duration: f
         return none
     from microslip.analysis.free_vibration import free_period
 
-    grid = {name: np.ravel(value) for name, value in field_grid(model.params, param_axes).items()}
-    logs = {name: np.ravel(value) for name, value in grid_logs(model.params, param_axes).items()}
-    y0, t0 = 10.0 ** logs["y0"], 10.0 ** logs["T0"]
+    grid = field_grid(model.params, param_axes)  # broadcast views: no copy per field
+    logs = grid_logs(model.params, param_axes)
+    y0, t0 = 10.0 ** np.ravel(logs["y0"]), 10.0 ** np.ravel(logs["T0"])
+    exponents = np.ravel(grid["m2"])
     amplitudes = np.asarray(amplitudes, dtype=float)
     ratio_cap = model.params.max_amplitude / model.params.static_deflection
     longest = 0.0
-    for m2 in np.unique(grid["m2"]):
-        sets = np.flatnonzero(grid["m2"] == m2)
-        one = Parameters(**{name: float(values[sets[0]]) for name, values in grid.items()})
+    for m2 in np.unique(exponents):
+        sets = np.flatnonzero(exponents == m2)
+        one = Parameters(**{name: float(values.flat[sets[0]]) for name, values in grid.items()})
         ratios = (amplitudes.min() / y0[sets].max(), amplitudes.max() / y0[sets].min())
         stretch = max(
             free_period(one, min(r, ratio_cap) * one.static_deflection) / one.natural_period
@@ -230,7 +231,7 @@ def repeated_tape_work(model: Model, param_axes, forces, amplitudes, duration: f
     periods = duration / longest
     if periods < 2.0:
         return none
-    limits = grid["mu"] * grid["mass"] * grid["g"]  # μ m g [N] per set
+    limits = np.ravel(grid["mu"] * grid["mass"] * grid["g"])  # μ m g [N] per set
     magnitudes = np.sort(np.abs(np.asarray(forces, dtype=float)))
     at_most = np.searchsorted(magnitudes, limits, side="right")  # forces <= the limit
     sliding = 1.0 - float(at_most.min()) / magnitudes.size
