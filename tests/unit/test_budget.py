@@ -90,22 +90,20 @@ def test_a_free_vibrations_long_time_map_is_estimated_on_its_repeated_tape(monke
 
 
 def test_repeated_tape_work_follows_the_tape_and_the_lanes():
-    from microslip.sweeps.kernel_choice import repeated_tape_work
+    from microslip.sweeps.kernel_choice import parking_fractions, repeated_tape_work
 
     free = ms.Model(P)
     forces, amplitudes = np.linspace(0.05, 0.95, 16), np.linspace(0.0, 3e-7, 16)
-    periods = 0.05 / ms.free_period(P, 3e-7)  # the longest period of these amplitudes
-    tape, lane, repeating = repeated_tape_work(free, (), forces, amplitudes, 0.05)
-    # A repeating set-up takes 2 periods of tape and 16 of lanes; every one repeats.
-    assert tape == pytest.approx(2 / periods)
-    assert lane == pytest.approx(cost.PARKED_LANE_PERIODS / periods)
-    assert repeating == 16
+    limit = P.mu * P.mass * P.g
+    periods = 10.0 / ms.free_period(P, 3e-7)  # the longest period of these amplitudes
+    work = repeated_tape_work(free, (), forces, amplitudes, 10.0)
+    assert work == pytest.approx((*parking_fractions(forces, limit, periods), 16))
     # The rest at A = 0 repeats with T0 (N = m g for ever).
-    at_rest = repeated_tape_work(free, (), forces, np.zeros(4), 0.05)
-    assert at_rest == pytest.approx((2 * T0 / 0.05, 16 * T0 / 0.05, 4))
+    at_rest = repeated_tape_work(free, (), forces, np.zeros(4), 10.0)
+    assert at_rest == pytest.approx((*parking_fractions(forces, limit, 10.0 / T0), 4))
     # Lanes beyond μ m g (either direction) accelerate for ever: they never park.
-    beyond = 1.5 * P.mu * P.mass * P.g * np.array([1.0, -1.0])
-    assert repeated_tape_work(free, (), beyond, amplitudes, 0.05)[1] == 1.0
+    beyond = 1.5 * limit * np.array([1.0, -1.0])
+    assert repeated_tape_work(free, (), beyond, amplitudes, 10.0)[1] == 1.0
     # Nothing repeats: damping, excitation, under two periods.
     not_repeated = [
         (ms.Model(P, damping=ms.Viscous(0.01)), (), amplitudes, 0.05),
@@ -116,6 +114,30 @@ def test_repeated_tape_work_follows_the_tape_and_the_lanes():
         assert repeated_tape_work(model, axes, forces, amps, duration) == (1.0, 1.0, 0)
 
 
+def test_parking_fractions():
+    """A lane far below μ m g is live for PARKED_LANE_PERIODS periods and one more; one
+    closer, μ m g/(μ m g - |F|) more; one within NEAR_LIMIT of it, or beyond it, for
+    ever. The tape is 2 periods, and its rows are walked while any lane is live."""
+    from microslip.sweeps.kernel_choice import NEAR_LIMIT, parking_fractions
+
+    limit, periods = 1.0, 1e4
+    walk = cost.SHARED_S_PER_ROW / cost.SHARED_S_PER_SETUP_STEP
+    tape, lane = parking_fractions(np.array([0.0]), limit, periods)
+    assert lane == pytest.approx((cost.PARKED_LANE_PERIODS + 1.0) / periods)
+    assert tape == pytest.approx(2.0 / periods + lane * walk)
+    tape, lane = parking_fractions(np.array([-0.99]), limit, periods)  # either direction
+    assert lane == pytest.approx((cost.PARKED_LANE_PERIODS + 100.0) / periods)
+    for never in (1.0 - 0.5 * NEAR_LIMIT, 1.0, 1.5):
+        assert parking_fractions(np.array([never]), limit, periods) == (
+            pytest.approx(min(1.0, 2.0 / periods + walk)),
+            1.0,
+        )
+    # A mean over the lanes; the walk is the longest-lived lane's.
+    tape, lane = parking_fractions(np.array([0.0, -0.99, 1.5]), limit, periods)
+    assert lane == pytest.approx((17.0 + 116.0 + periods) / (3 * periods))
+    assert tape == pytest.approx(min(1.0, 2.0 / periods + walk))
+
+
 def test_repeated_tape_work_over_parameter_axes_takes_the_worst_set():
     """With parameter axes every set's tape repeats too: the fractions are bounds over
     the sets, from the fewest periods (the longest T(A) at the smallest or largest A,
@@ -123,7 +145,7 @@ def test_repeated_tape_work_over_parameter_axes_takes_the_worst_set():
     a set's μ m g. The bound pairs the extreme ratio A/y0 with the longest T0 of the
     sets of an exponent: 0.5 % above over three exponents, 13 % over two masses, where
     A = 1e-6 m flies off the lighter slider (T(A) = 1.5 T0)."""
-    from microslip.sweeps.kernel_choice import repeated_tape_work
+    from microslip.sweeps.kernel_choice import parking_fractions, repeated_tape_work
 
     free = ms.Model(P)
     forces, amplitudes = np.linspace(0.05, 0.95, 16), np.linspace(0.0, 1e-6, 16)
@@ -136,12 +158,10 @@ def test_repeated_tape_work_over_parameter_axes_takes_the_worst_set():
                 for v in itertools.product(*(values for _, values in axes))]  # fmt: skip
         longest = max(ms.free_period(p, a) for p in sets for a in amplitudes[[0, -1]])
         tape, lane, repeating = repeated_tape_work(free, axes, forces, amplitudes, 0.5)
-        exact = 2 * longest / 0.5
-        assert exact <= tape <= above * exact
-        # μ = 0.05 with m = 1 kg: the forces above 0.49 N slide for ever.
-        sliding = np.mean(forces > 0.05 * 1.0 * P.g)
-        exact = sliding + (1 - sliding) * cost.PARKED_LANE_PERIODS * longest / 0.5
-        assert exact <= lane <= above * exact
+        # μ = 0.05 with m = 1 kg, the smallest μ m g: the lanes of that set live longest.
+        exact = parking_fractions(forces, 0.05 * 1.0 * P.g, 0.5 / longest)
+        assert exact[0] <= tape <= above * exact[0]
+        assert exact[1] <= lane <= above * exact[1]
         assert repeating == amplitudes.size * len(sets)
 
 

@@ -38,6 +38,10 @@ SHARED_S_PER_LANE_STEP = 4e-9
 # stepped through every period); rounded up 2x. Once all of a set-up's lanes are
 # parked, its periods left cost nothing (shared_lanes._run_cycle).
 PARKED_LANE_PERIODS = 16.0
+# While any lane of a set-up on a repeated tape is live, the kernel walks every row of
+# every period for it: measured 13.6 ns per row with one live lane (a lane at F = μ m g
+# that never repeats a period bit for bit), 2026-11-27; rounded up 3x.
+SHARED_S_PER_ROW = 40e-9
 # A "time" chunk's own cost (its models, lane arrays, tapes' set-up, the thread hand-out):
 # measured 0.95 ms for a chunk of one lane on one set-up over 400 periods (its lane
 # parked), 2026-11-27.

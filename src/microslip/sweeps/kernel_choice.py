@@ -193,20 +193,18 @@ def repeats_from_rest(model: Model, amplitude: float) -> bool:
 
 
 def repeated_tape_work(model: Model, param_axes, forces, amplitudes, duration: float):
-    """(tape, lane, repeating) of a rigid time sweep on a free vibration's repeated tape
-    (:data:`microslip.sweeps.cost.PARKED_LANE_PERIODS`): the fractions [1] of a set-up's
-    stepped tape and lane work left where it repeats (:func:`repeats_from_rest`: a
-    one-period tape, and lanes with |F| <= μ m g that take about that many periods;
-    those beyond accelerate for ever and take them all), and the number of set-ups,
-    each of which builds its one-period tape. (1, 1, 0), every set-up at the full cost,
-    where the tape is not repeated: damping, excitation, or fewer than two periods.
+    """(tape, lane, repeating) of a rigid time sweep on a free vibration's repeated tape:
+    the fractions [1] of a set-up's stepped tape (with the walk over its rows) and lane
+    work left where it repeats (:func:`repeats_from_rest`; :func:`parking_fractions`),
+    and the number of set-ups, each of which builds its one-period tape. (1, 1, 0),
+    every set-up at the full cost, where the tape is not repeated: damping, excitation,
+    or fewer than two periods.
 
     Upper bounds over the parameter sets: the fewest periods (the longest of the
-    periods at the smallest and largest A of any set) and the largest share of forces
-    beyond μ m g in a set. T(A)/T0 depends on A/y0 and m2 alone (with u = y/y0 and
-    s = t/T0 the free vibration is u'' = (2π)²/m2 (1 - u^m2), and (2π)²/m2 in flight:
-    docs/theory/free_vibration.md), so it is computed once per exponent, at the extreme
-    ratios A/y0 of the sets."""
+    periods at the smallest and largest A of any set) and the smallest μ m g. T(A)/T0
+    depends on A/y0 and m2 alone (with u = y/y0 and s = t/T0 the free vibration is
+    u'' = (2π)²/m2 (1 - u^m2), and (2π)²/m2 in flight: docs/theory/free_vibration.md),
+    so it is computed once per exponent, at the extreme ratios A/y0 of the sets."""
     none = (1.0, 1.0, 0)
     if model.damping is not None or model.excitation is not None:
         return none
@@ -231,9 +229,33 @@ def repeated_tape_work(model: Model, param_axes, forces, amplitudes, duration: f
     periods = duration / longest
     if periods < 2.0:
         return none
-    limits = np.ravel(grid["mu"] * grid["mass"] * grid["g"])  # μ m g [N] per set
-    magnitudes = np.sort(np.abs(np.asarray(forces, dtype=float)))
-    at_most = np.searchsorted(magnitudes, limits, side="right")  # forces <= the limit
-    sliding = 1.0 - float(at_most.min()) / magnitudes.size
-    lane = sliding + (1.0 - sliding) * min(1.0, cost.PARKED_LANE_PERIODS / periods)
-    return min(1.0, 2.0 / periods), lane, amplitudes.size * int(limits.size)
+    limit = float(np.min(grid["mu"] * grid["mass"] * grid["g"]))  # the smallest μ m g [N]
+    tape, lane = parking_fractions(np.asarray(forces, dtype=float), limit, periods)
+    return tape, lane, amplitudes.size * int(exponents.size)
+
+
+# A lane this close to μ m g, relatively, is counted as never parking: the tape's mean
+# normal force is m g only to its RK4 error, and such a lane may slide for ever.
+NEAR_LIMIT = 1e-6
+
+
+def parking_fractions(forces: np.ndarray, limit: float, periods: float) -> tuple[float, float]:
+    """(tape, lane): the fractions [1] of the stepped tape and lane work of a set-up on
+    a repeated tape of ``periods`` periods, forces F [N], μ m g = ``limit`` [N]
+    (:data:`microslip.sweeps.cost.PARKED_LANE_PERIODS`, docs/theory/numerics.md,
+    "Repeating lanes").
+
+    A lane with |F| > μ m g accelerates for ever and never parks; so, counted, does one
+    within :data:`NEAR_LIMIT` of it. One below slides through whole periods at most
+    μ m g/(μ m g - |F|) times, as the mean normal force over a period is m g: it gains at
+    most μ g T in a period and loses (μ m g - |F|) T/m over each whole period slid.
+    After it has stopped once in a period it parks within PARKED_LANE_PERIODS. The tape
+    is built over 2 periods; while any lane is live the kernel walks every row
+    (:data:`~microslip.sweeps.cost.SHARED_S_PER_ROW`)."""
+    magnitudes = np.abs(forces)
+    below = magnitudes < limit * (1.0 - NEAR_LIMIT)
+    to_park = np.full(magnitudes.shape, np.inf)
+    to_park[below] = cost.PARKED_LANE_PERIODS + limit / (limit - magnitudes[below])
+    live = np.minimum(1.0, to_park / periods)  # the share of the periods each lane is live
+    walk = float(np.max(live)) * cost.SHARED_S_PER_ROW / cost.SHARED_S_PER_SETUP_STEP
+    return min(1.0, 2.0 / periods + walk), float(np.mean(live))
