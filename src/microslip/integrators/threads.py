@@ -156,7 +156,10 @@ def run_ranges(
         try:
             work()
         finally:
-            _wait_for(helpers, stop)
+            _halt(helpers, stop)
+            for future in helpers:
+                if not future.cancelled():
+                    future.exception()  # waits for it to end
     else:
         # Every range on a helper, this thread waiting where a signal can reach it:
         # compiled code holds off Ctrl-C until it returns, which may be minutes.
@@ -167,21 +170,16 @@ def run_ranges(
         except BaseException:
             # Ctrl-C or SIGTERM: raised at once. The ranges already running cannot be
             # stopped from here; they end on their own, their results unread.
-            stop.set()
-            for future in helpers:
-                future.cancel()
+            _halt(helpers, stop)
             raise
     for future in helpers:
         if not future.cancelled() and future.exception() is not None:
             raise future.exception()
 
 
-def _wait_for(helpers: list[Future], stop: threading.Event) -> None:
-    """Stop handing out ranges and wait for the helpers' running ones to end."""
+def _halt(helpers: list[Future], stop: threading.Event) -> None:
+    """Stop handing out ranges; a helper still queued (behind another call's work) has
+    none left to run."""
     stop.set()
-    # A helper still queued behind another call's work has nothing left to do.
     for future in helpers:
         future.cancel()
-    for future in helpers:
-        if not future.cancelled():
-            future.exception()  # waits for it to end

@@ -206,7 +206,7 @@ def repeated_tape_work(model: Model, param_axes, forces, amplitudes, duration: f
     u'' = (2π)²/m2 (1 - u^m2), and (2π)²/m2 in flight: docs/theory/free_vibration.md),
     so it is computed once per exponent, at the extreme ratios A/y0 of the sets."""
     none = (1.0, 1.0, 0)
-    if model.damping is not None or model.excitation is not None:
+    if not repeats_from_rest(model, 0.0):  # damped or forced: no tape repeats
         return none
     from microslip.analysis.free_vibration import free_period
 
