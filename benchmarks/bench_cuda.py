@@ -54,13 +54,13 @@ def best_time(function, *args, repeats=3):
 
 def free_lanes(n_forces, n_amplitudes):
     """The paper map's lanes: F in [0.05, 0.95] N x A in [0, 3e-7] m, from rest at the top,
-    with each set-up's period T(A) [s] (0 at A = 0, as the sweep passes them)."""
+    with each set-up's period T(A) [s] (T0 at A = 0, rest, as the sweep passes them)."""
     forces = np.linspace(0.05, 0.95, n_forces)
     amplitudes = np.linspace(0.0, 3e-7, n_amplitudes)
     c = normal_coefficients(ms.Model(PARAMS).pack(0.0))
     coeffs = np.repeat(c[None], n_amplitudes, axis=0)
     normal0 = np.array([initial_state_from_amplitude(PARAMS, a)[:2] for a in amplitudes])
-    periods = np.array([free_period(PARAMS, a) if a > 0 else 0.0 for a in amplitudes])
+    periods = np.array([free_period(PARAMS, a) for a in amplitudes])
     return coeffs, normal0, forces, amplitudes, T0 / 200, periods
 
 
