@@ -86,6 +86,53 @@ def mindlin_lanes(n_steps: int):
     return tuple(args)
 
 
+def hertz_lanes(n_steps: int):
+    """Mindlin set-ups at m2 = 1.5 (a Hertz contact, rough at touchdown) that stay in
+    contact (A = 0.5 y0), leave it (A = 2.5 y0) or are forced into flights, and one at
+    m2 = 2 in flight (which the lanes run through), with dt = T0/200 of m2 = 1.5.
+    Returns (arguments of run_mindlin_lanes, the periods of the free set-ups, the
+    set-ups handed back)."""
+    from microslip.simulation import initial_state_from_amplitude
+
+    hertz, square = ms.Parameters(m2=1.5), ms.Parameters(m2=2.0)
+    forced = ms.Model(hertz, damping=ms.Viscous(0.05), excitation=ms.HarmonicForce(8.0, 16e3))
+    setups = [
+        (ms.Model(hertz), 0.5 * hertz.static_deflection),
+        (ms.Model(hertz), 2.5 * hertz.static_deflection),
+        (forced, None),
+        (ms.Model(square), 2.5 * square.static_deflection),
+    ]
+    coeffs = np.array([normal_coefficients(model.pack(0.0)) for model, _ in setups])
+    normal0 = np.array(
+        [
+            initial_state_from_amplitude(model.params, a)[:2]
+            if a is not None
+            else [model.params.static_deflection, 0.0]
+            for model, a in setups
+        ]
+    )
+    periods = [ms.free_period(model.params, a) if a else 0.0 for model, a in setups]
+    mg = hertz.mass * hertz.g
+    forces = np.array([0.0, 0.3, 0.7, 0.95, 1.3]) * hertz.mu * mg
+    groups = np.repeat(np.arange(4), forces.size)
+    lane_forces = np.tile(forces, 4)
+    mu = np.full(lane_forces.size, hertz.mu)
+    ratio = np.array([0.8, 0.8, 0.5, 0.8])
+    dt = hertz.natural_period / 200
+    args = (coeffs, normal0, ratio, groups, lane_forces, mu, mu.copy(), n_steps * dt, dt)
+    return args, periods, np.array([1, 2])
+
+
+def handed_back(run, *args, **options):
+    """(set-ups handed back, results complete for the others) of a Mindlin-lane run that
+    hands some back."""
+    from microslip.integrators.shared_lanes import LaneStalledError
+
+    with pytest.raises(LaneStalledError) as error:
+        run(*args, **options)
+    return error.value.setups, error.value.partial
+
+
 SIMULATED = textwrap.dedent(
     """
     import numpy as np
@@ -150,6 +197,20 @@ SIMULATED = textwrap.dedent(
     with pytest.raises(ValueError, match="too coarse for the Mindlin"):
         run_mindlin_lanes_cuda(*coarse)
 
+    # Hertz set-ups (m2 = 1.5): those that leave contact are handed back, as on the CPU,
+    # with the other set-ups' results, on a stepped and on a repeated tape.
+    from test_cuda_lanes import handed_back, hertz_lanes
+    args, periods, back = hertz_lanes(240)
+    for options in (dict(), dict(periods=periods)):
+        cpu_back, cpu = handed_back(run_mindlin_lanes, *args, **options)
+        gpu_back, gpu = handed_back(run_mindlin_lanes_cuda, *args, tape_rows=24, **options)
+        assert np.array_equal(cpu_back, back) and np.array_equal(gpu_back, back), gpu_back
+        kept = ~np.isin(args[3], back)
+        for name, a, b in zip(("x", "v", "f", "mode", "switches", "flagged"), cpu, gpu):
+            assert np.array_equal(a[kept], b[kept]), ("hertz", options, name, a, b)
+        assert cpu[4][kept].sum() >= 4 and (cpu[3][kept] == 2.0).any(), cpu[4]
+    print("hertz hand-back same bits")
+
     # The public path: velocity_map / sweep with backend="cuda", free and forced.
     import tempfile
     from pathlib import Path
@@ -182,6 +243,13 @@ SIMULATED = textwrap.dedent(
     mindlin = ms.Model(tangential=ms.MindlinSpring(0.8235))
     on_cpu = ms.sweep(mindlin, None, force=[0.3, 0.9], amplitude=[1e-7, 4e-7], **options)
     on_gpu = ms.sweep(mindlin, None, force=[0.3, 0.9], amplitude=[1e-7, 4e-7], **options,
+                      backend="cuda")
+    assert np.array_equal(on_cpu.values, on_gpu.values) and np.abs(on_cpu.values).max() > 0
+    # A Hertz contact: the set-up in flight runs on the batched kernel on both.
+    hertz = mindlin.replace(m2=1.5)
+    y0 = hertz.params.static_deflection
+    on_cpu = ms.sweep(hertz, None, force=[0.3, 0.9], amplitude=[0.5 * y0, 2.5 * y0], **options)
+    on_gpu = ms.sweep(hertz, None, force=[0.3, 0.9], amplitude=[0.5 * y0, 2.5 * y0], **options,
                       backend="cuda")
     assert np.array_equal(on_cpu.values, on_gpu.values) and np.abs(on_cpu.values).max() > 0
     # A store computed on one backend is not resumed on the other (bits would mix).
@@ -254,6 +322,34 @@ def test_gpu_compliant_lanes_agree_with_the_cpu_kernel(kernel):
 
 
 @pytest.mark.skipif(slc.cuda_unavailable() is not None, reason="needs a CUDA GPU")
+@pytest.mark.parametrize("periodic", [False, True])
+def test_gpu_hands_back_the_hertz_setups_that_leave_contact(periodic):
+    from microslip.integrators.mindlin_lanes import run_mindlin_lanes
+    from microslip.integrators.mindlin_lanes_cuda import run_mindlin_lanes_cuda
+
+    args, periods, back = hertz_lanes(4000)
+    options = dict(periods=periods) if periodic else {}
+    cpu_back, cpu = handed_back(run_mindlin_lanes, *args, **options)
+    gpu_back, gpu = handed_back(run_mindlin_lanes_cuda, *args, tape_rows=512, **options)
+    assert np.array_equal(cpu_back, back) and np.array_equal(gpu_back, back)
+    kept = ~np.isin(args[3], back)
+    for k in range(3):  # x, ẋ, f
+        assert np.abs(gpu[k][kept] - cpu[k][kept]).max() <= 1e-9 * np.abs(cpu[k][kept]).max()
+    assert np.array_equal(gpu[3][kept], cpu[3][kept])
+
+
+@pytest.mark.skipif(slc.cuda_unavailable() is not None, reason="needs a CUDA GPU")
+def test_gpu_hertz_mindlin_map_agrees_with_the_cpu_one():
+    hertz = ms.Model(ms.Parameters(m2=1.5), tangential=ms.MindlinSpring(0.8))
+    y0 = hertz.params.static_deflection
+    options = dict(force=np.linspace(0.05, 0.95, 32), amplitude=np.linspace(0.0, 2.0 * y0, 8),
+                   method="time", duration=0.005)  # fmt: skip
+    on_cpu = ms.sweep(hertz, None, **options).values
+    on_gpu = ms.sweep(hertz, None, **options, backend="cuda").values
+    assert np.abs(on_gpu - on_cpu).max() <= 1e-9 * np.abs(on_cpu).max()
+
+
+@pytest.mark.skipif(slc.cuda_unavailable() is not None, reason="needs a CUDA GPU")
 def test_gpu_velocity_map_agrees_with_the_cpu_one():
     forces = np.linspace(0.05, 0.95, 64)
     amplitudes = np.linspace(0.0, 3e-7, 16)
@@ -273,8 +369,6 @@ TIME = dict(forces=[0.3, 0.6], amplitudes=[1e-7], method="time", duration=0.001)
         (None, dict(TIME, backend="gpu"), ["backend must be one of cpu, cuda", "'gpu'"]),
         (None, dict(TIME, method="steady", duration=None, backend="cuda"),
          ["backend='cuda' runs method='time' only"]),
-        (ms.Model(ms.Parameters(m2=1.5), tangential=ms.MindlinSpring(0.8)),
-         dict(TIME, backend="cuda"), ["MindlinSpring at m2 = 1.5", "batched kernel"]),
         (ms.Model(drive=ms.PrescribedVelocity(1e-4)), dict(backend="cuda"),
          ["does not apply to an effective-friction sweep"]),
     ],

@@ -338,17 +338,6 @@ def run_mindlin_lanes(normal_coeffs, normal_states0, ratio, group_of_lane, force
     return results
 
 
-def check_exponents(normal_coeffs: np.ndarray) -> None:
-    """ValueError in one line for a set-up whose contact exponent m2 the GPU lanes do not
-    run (:func:`supports_exponent`; they hand back no set-up)."""
-    for m2 in np.unique(normal_coeffs[:, EXPONENT]):
-        if not supports_exponent(float(m2)):
-            raise ValueError(
-                f"m2 = {float(m2)!r}: the Mindlin-lane kernel runs m2 = 1, 2 or >= 3 (k_t ∝ "
-                "δ^(m2-1) is not smooth at touchdown otherwise); use the batched kernel"
-            )
-
-
 def raise_if_too_coarse(coarse: np.ndarray, dt: float) -> None:
     """ValueError in one line naming the first set-up marked in ``coarse`` (G,), where a
     piece's θ = h sqrt(k_t/m) exceeded MAX_THETA."""

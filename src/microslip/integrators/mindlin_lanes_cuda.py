@@ -15,6 +15,13 @@ piece's closed form (:func:`~microslip.integrators.mindlin_lanes.piece_constants
 which a lane reads straight into registers; only a flagged lane copies the piece's
 scalars and series (to its degree) into its scratch.
 
+Contact exponents: any m2, as on the CPU. At an m2 outside
+:func:`~microslip.integrators.mindlin_lanes.supports_exponent` (a Hertz contact, m2 =
+1.5) a set-up runs here while it stays in contact; the table kernel marks one with a
+row in flight, its lanes stop at their next contact piece, and the run hands it back
+(``LEFT_ROUGH_CONTACT``, :class:`~microslip.integrators.shared_lanes.LaneStalledError`
+with the other set-ups' results as its ``partial``), as the CPU kernel does.
+
 A lane's result depends only on its parameters and its set-up's tape; on a GPU the
 bits differ from the CPU kernel's by rounding (fused multiply-adds), and under numba's
 CUDA simulator they are the CPU kernel's (docs/theory/numerics.md, "Lanes on a GPU").
@@ -31,11 +38,14 @@ from microslip import _jit_cache  # noqa: F401  (registers the cache before any 
 from microslip.integrators import mindlin_lane_law as law
 from microslip.integrators import normal_tape as nt
 from microslip.integrators.mindlin_lanes import (
-    check_exponents,
+    HANDED_BACK,
+    LEFT_ROUGH_CONTACT,
     free_piece,
     piece_constants,
     raise_if_too_coarse,
+    supports_exponent,
 )
+from microslip.integrators.shared_lanes import OK
 from microslip.integrators.shared_lanes_cuda import (
     TAPE_ROWS,
     THREADS_PER_BLOCK,
@@ -43,9 +53,14 @@ from microslip.integrators.shared_lanes_cuda import (
     cuda_unavailable,
     run_lanes,
 )
-from microslip.integrators.spring_lanes import FS, MODE, V, X, flight_piece, pack_lanes
-from microslip.integrators.spring_lanes_cuda import COARSE, lanes_kernel, start_lanes
-from microslip.model.coefficients import GRAVITY, MASS, SIZE
+from microslip.integrators.spring_lanes import flight_piece, pack_lanes
+from microslip.integrators.spring_lanes_cuda import (
+    COARSE,
+    lane_results,
+    lanes_kernel,
+    start_lanes,
+)
+from microslip.model.coefficients import EXPONENT, GRAVITY, MASS, SIZE
 
 PIECES_BYTES = 512 * 2**20  # at most this much of the pieces' table on the GPU
 _SERIES_LENGTH = law.DEGREE + 1
@@ -54,14 +69,18 @@ _PIECE = law.PIECE  # a module constant: the size of a local array must be a lit
 _CONSTANTS = law.PIECE  # where a table row keeps the piece's free_piece constants
 _N_CONSTANTS = 19  # of mindlin_lanes.piece_constants
 TABLE_WIDTH = law.PIECE + _N_CONSTANTS
+# Columns of the per-set-up constants: mass [kg], gravity [m/s²], ratio λ [-], and 1.0
+# once the table kernel has met a row in flight at an m2 outside supports_exponent.
+S_MASS, S_GRAVITY, S_RATIO, S_LEFT = range(4)
 
 
-def piece_table_row(tapes, rows, normal_c, setups, pieces, coarse):
+def piece_table_row(tapes, rows, normal_c, setups, pieces, coarse, rough):
     """Thread j writes row r of set-up g (j = g × rows per block + r) of the pieces'
     table: :func:`~microslip.integrators.mindlin_lane_law.set_piece` on a contact
-    piece; h = -1 and ``coarse[g]`` = 1 where θ = h sqrt(k_t/m) > MAX_THETA. Works on
-    copies in thread-local memory (the law is compiled code, which under the
-    simulator cannot take the simulator's arrays)."""
+    piece; h = -1 and ``coarse[g]`` = 1 where θ = h sqrt(k_t/m) > MAX_THETA; on a row in
+    flight of a set-up with ``rough[g]`` (its m2 outside supports_exponent),
+    setups[g, S_LEFT] = 1. Works on copies in thread-local memory (the law is compiled
+    code, which under the simulator cannot take the simulator's arrays)."""
     j = cuda.grid(1)
     n_rows = tapes.shape[1]
     g = j // n_rows
@@ -73,6 +92,8 @@ def piece_table_row(tapes, rows, normal_c, setups, pieces, coarse):
         tapes[g, r, nt.A4],
     )  # fmt: skip
     if flight_piece(a):
+        if rough[g] != 0:
+            setups[g, S_LEFT] = 1.0  # every such thread writes the same value
         return
     row = cuda.local.array(_ONE_ROW, float64)
     for q in range(nt.ROW):
@@ -81,7 +102,7 @@ def piece_table_row(tapes, rows, normal_c, setups, pieces, coarse):
     for q in range(SIZE):
         c[q] = normal_c[g, q]
     piece = cuda.local.array(_PIECE, float64)
-    law.set_setup(piece, setups[g, 0], setups[g, 1], setups[g, 2])
+    law.set_setup(piece, setups[g, S_MASS], setups[g, S_GRAVITY], setups[g, S_RATIO])
     status = law.set_piece(piece, a, row, 0, c)
     for q in range(law.PIECE):
         pieces[g, r, q] = piece[q]
@@ -105,8 +126,10 @@ def mindlin_piece(tapes, g, r, a, h, setups, pieces, piece, force, fm, km, mu_s,
                   f, mode):  # fmt: skip
     """A Mindlin lane over contact piece r of set-up g (``contact_piece`` of
     :func:`~microslip.integrators.spring_lanes_cuda.lanes_kernel`), from the pieces'
-    table into the thread's scratch ``piece``; COARSE on a piece marked too coarse."""
-    if pieces[g, r, law.M_H] < 0.0:
+    table into the thread's scratch ``piece``; COARSE on a piece marked too coarse or of
+    a set-up marked as left contact on a rough law (handed back: its results are not
+    used)."""
+    if pieces[g, r, law.M_H] < 0.0 or setups[g, S_LEFT] != 0.0:
         return False, COARSE, x, v, f, mode
     row = pieces[g, r]
     b = _CONSTANTS  # the piece_constants tuple, read straight into registers
@@ -145,38 +168,48 @@ def run_mindlin_lanes_cuda(normal_coeffs, normal_states0, ratio, group_of_lane, 
     set-up in a block of tapes (default: TAPE_ROWS, fewer where the pieces' table would
     exceed PIECES_BYTES), ``periods`` as for
     :func:`~microslip.integrators.shared_lanes.run_shared`. Raises RuntimeError when
-    no GPU can be used."""
+    no GPU can be used, and LaneStalledError naming the set-ups it hands back, as the CPU
+    kernel (module doc)."""
     reason = cuda_unavailable()
     if reason is not None:
         raise RuntimeError(reason)
     normal_coeffs = np.ascontiguousarray(normal_coeffs, dtype=np.float64)
     states0 = np.asarray(normal_states0, dtype=np.float64)
-    check_exponents(normal_coeffs)
     lanes, starts, ratio = pack_lanes(
         normal_coeffs, ratio, group_of_lane, forces, mu_static, mu_kinetic, what="ratio"
     )
     if lanes.shape[1] == 0:
         none = np.zeros(0, dtype=np.int64)
-        return lanes[X], lanes[V], lanes[FS], lanes[MODE], none, none
+        return lane_results(lanes, none, none)
     n_groups = normal_coeffs.shape[0]
     if tape_rows is None:
         tape_rows = max(16, min(TAPE_ROWS, PIECES_BYTES // (n_groups * TABLE_WIDTH * 8)))
-    setups = np.stack([normal_coeffs[:, MASS], normal_coeffs[:, GRAVITY], ratio], axis=1)
+    setups = np.stack(
+        [normal_coeffs[:, MASS], normal_coeffs[:, GRAVITY], ratio, np.zeros(n_groups)], axis=1
+    )
+    rough = np.array([not supports_exponent(m2) for m2 in normal_coeffs[:, EXPONENT]], np.int64)
     lane_group, flying = start_lanes(normal_coeffs, states0, lanes, starts)
     table_kernel, lane_kernel = _kernels()
     d_coeffs, d_setups = cuda.to_device(normal_coeffs), cuda.to_device(setups)
     d_pieces = cuda.device_array((n_groups, int(tape_rows), TABLE_WIDTH))
     d_coarse = cuda.to_device(np.zeros(n_groups, dtype=np.int64))
+    d_rough = cuda.to_device(rough)
     blocks = (n_groups * int(tape_rows) + THREADS_PER_BLOCK - 1) // THREADS_PER_BLOCK
 
     def fill_table(d_tapes, d_rows, stream):
         table_kernel[blocks, THREADS_PER_BLOCK, stream](
-            d_tapes, d_rows, d_coeffs, d_setups, d_pieces, d_coarse
+            d_tapes, d_rows, d_coeffs, d_setups, d_pieces, d_coarse, d_rough
         )
 
-    lanes, switches, flagged = run_lanes(
+    def left_rough_contact():
+        return d_setups.copy_to_host()[:, S_LEFT] != 0.0
+
+    def check():  # a set-up handed back is not checked (the CPU kernel stops at its flight)
+        raise_if_too_coarse(d_coarse.copy_to_host() * ~left_rough_contact(), dt)
+
+    return run_lanes(
         lane_kernel, "Mindlin-lane kernel (CUDA)", normal_coeffs, states0, lanes, lane_group,
         t_end, dt, tape_rows, before=(d_setups, d_pieces), after=(flying,), periods=periods,
-        prepare=fill_table, check=lambda: raise_if_too_coarse(d_coarse.copy_to_host(), dt),
+        prepare=fill_table, check=check, results=lane_results, handed_back=HANDED_BACK,
+        statuses=lambda: np.where(left_rough_contact(), LEFT_ROUGH_CONTACT, OK),
     )  # fmt: skip
-    return lanes[X], lanes[V], lanes[FS], lanes[MODE], switches, flagged

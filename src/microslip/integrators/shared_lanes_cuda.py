@@ -48,6 +48,7 @@ from microslip.integrators.shared_lanes import (
     N_BALANCE,
     N_RELEASE,
     OK,
+    LaneStalledError,
     V,
     X,
     pack_lanes,
@@ -284,15 +285,21 @@ def run_blocks(kernel, normal_coeffs, normal_states0, n_lanes, t_end, dt, tape_r
 
 def run_lanes(kernel, name, normal_coeffs, normal_states0, lanes, lane_group, t_end, dt,
               tape_rows, before=(), after=(), periods=None, prepare=None,
-              check=None, cycles=None, cycles_on_gpu=False):  # fmt: skip
+              check=None, cycles=None, cycles_on_gpu=False, results=None,
+              statuses=None, handed_back=None):  # fmt: skip
     """Run ``kernel`` over every block of tapes (:func:`run_blocks`, with ``prepare``) on
     ``lanes`` (rows x lanes, a column per lane, ``lane_group`` its set-up) and return
-    (lanes, switches, flagged) from the GPU. The kernel takes (tapes, rows, lane_group,
-    *before, lanes, *after, switches, flagged, stalled), ``before`` and ``after`` host
-    arrays that go to the GPU with it (or arrays on the GPU already). ``check()``, where
-    given, runs once the GPU is done and may raise first; then RuntimeError naming
-    ``name`` and the set-up if a normal integration failed or a lane stalled. ``periods``,
-    ``cycles`` and ``cycles_on_gpu`` as for :func:`run_blocks`."""
+    ``results(lanes, switches, flagged)`` (default: that tuple) from the GPU. The kernel
+    takes (tapes, rows, lane_group, *before, lanes, *after, switches, flagged, stalled),
+    ``before`` and ``after`` host arrays that go to the GPU with it (or arrays on the GPU
+    already). ``check()``, where given, runs once the GPU is done and may raise first;
+    then RuntimeError naming ``name`` and the set-up if a normal integration failed, else
+    :class:`~microslip.integrators.shared_lanes.LaneStalledError` for the set-ups handed
+    back (a lane stalled, or a status of ``handed_back`` that ``statuses()`` gives the
+    set-up: :func:`~microslip.integrators.shared_lanes.raise_on_failure`), with the
+    results as its ``partial``: complete for every other set-up, since a thread's lane
+    depends on nothing but its own set-up. ``periods``, ``cycles`` and ``cycles_on_gpu``
+    as for :func:`run_blocks`."""
     n_groups, n_lanes = normal_coeffs.shape[0], lanes.shape[1]
     stream = cuda.stream()
 
@@ -317,8 +324,16 @@ def run_lanes(kernel, name, normal_coeffs, normal_states0, lanes, lane_group, t_
     raise_on_failure(status, name)
     group_status = np.full(n_groups, OK, dtype=np.int64)
     group_status[lane_group[stalled != 0]] = LANE_STALLED
-    raise_on_failure(group_status, name)
-    return lanes, switches, flagged
+    if statuses is not None:  # the kernel's own marks come first (they end the lanes)
+        marked = statuses()
+        group_status = np.where(marked != OK, marked, group_status)
+    out = (lanes, switches, flagged) if results is None else results(lanes, switches, flagged)
+    try:
+        raise_on_failure(group_status, name, handed_back)
+    except LaneStalledError as error:
+        error.partial = out
+        raise
+    return out
 
 
 def run_shared_cuda(normal_coeffs, normal_states0, group_of_lane, forces, mu_static,
@@ -349,9 +364,9 @@ def run_shared_cuda(normal_coeffs, normal_states0, group_of_lane, forces, mu_sta
     cycles = periodic_tape.cycles(normal_coeffs, normal_states0, periods, float(t_end), float(dt))
     cycle_shape = cycles[2][:, :3].astype(np.int64)  # period rows, tail rows, repeats
     cycle_rows = cycles[0] if cycles[0].shape[0] > 0 else np.zeros((1, nt.ROW))  # none: 1 row
-    lanes, switches, flagged = run_lanes(
+    return run_lanes(
         _kernel(), "shared-normal kernel (CUDA)", normal_coeffs, normal_states0, lanes,
         lane_group, t_end, dt, tape_rows, before=(cycle_rows, cycles[1], cycle_shape),
         after=(np.zeros(order.size, dtype=np.int8),), cycles=cycles, cycles_on_gpu=True,
+        results=lambda lanes, switches, flagged: unpack_lanes(lanes, order, switches, flagged),
     )  # fmt: skip
-    return unpack_lanes(lanes, order, switches, flagged)

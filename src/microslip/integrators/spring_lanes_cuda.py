@@ -175,9 +175,14 @@ def run_spring_lanes_cuda(normal_coeffs, normal_states0, stiffness, group_of_lan
         [np.sqrt(stiffness / mass), stiffness, mass, normal_coeffs[:, GRAVITY]], axis=1
     )
     lane_group, flying = start_lanes(normal_coeffs, states0, lanes, starts)
-    lanes, switches, flagged = run_lanes(
+    return run_lanes(
         _kernel(), "spring-lane kernel (CUDA)", normal_coeffs, states0, lanes, lane_group,
         t_end, dt, tape_rows, before=(setups, np.zeros((1, 1, 1))), after=(flying,),
-        periods=periods,
+        periods=periods, results=lane_results,
     )  # fmt: skip
+
+
+def lane_results(lanes, switches, flagged):
+    """(x [m], ẋ [m/s], f [N], mode, switches, flagged) per lane, as the CPU kernels
+    return them, from the compliant kernel's lane array and counts."""
     return lanes[X], lanes[V], lanes[FS], lanes[MODE], switches, flagged

@@ -205,8 +205,8 @@ def _mindlin_run(models, coeffs, normal0, forces, duration, dt, periods, backend
 
     A set-up the lanes hand back runs on the batched RK4 kernel instead, one trajectory
     per force (``simulate(method="rk4")`` bit for bit); the other set-ups keep their
-    lanes' results (on the GPU, which returns none, they run on the lanes again): each
-    set-up's result still depends on nothing else in the run. The
+    lanes' results (the CPU and GPU lanes both hand them on as the error's ``partial``):
+    each set-up's result still depends on nothing else in the run. The
     lanes hand back a set-up where a lane stalls (an exact tie of stick and slip at a
     touchdown) and one that leaves contact at a contact exponent outside
     :func:`~microslip.integrators.mindlin_lanes.supports_exponent`, whose stiffness
@@ -234,10 +234,7 @@ def _mindlin_run(models, coeffs, normal0, forces, duration, dt, periods, backend
         stalled, partial = error.setups, error.partial
     x = np.empty((len(models), forces.size))
     rest = np.setdiff1d(everything, stalled)
-    if partial is not None:  # the other set-ups' lanes ran to the end
-        x[rest] = partial[0].reshape(len(models), forces.size)[rest]
-    elif rest.size:
-        x[rest] = lanes(rest)
+    x[rest] = partial[0].reshape(len(models), forces.size)[rest]  # ran to the end
     if stalled.size:
         # One batched run for all of them: blocks full of lanes, spread over the threads
         # (a lane's bits do not depend on its block).

@@ -90,13 +90,6 @@ def checked_backend(backend: Any, model: Model, method: str, param_axes=()) -> s
         return backend
     if method != "time":
         raise ValueError("backend='cuda' runs method='time' only; 'steady' runs on the CPU")
-    if rough_exponents(model, param_axes):
-        raise ValueError(
-            "backend='cuda' runs the shared-normal time kernels (a rigid contact, a "
-            "TangentialSpring, a MindlinSpring at m2 = 1, 2 or >= 3); this "
-            f"{type(model.tangential).__name__} at m2 = {model.params.m2!r} (or an m2 axis) "
-            "hands its set-ups with a flight to the batched kernel, which runs on the CPU"
-        )
     from microslip.integrators.shared_lanes_cuda import cuda_unavailable
 
     reason = cuda_unavailable()

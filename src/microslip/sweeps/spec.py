@@ -116,8 +116,10 @@ class SweepSpec:
         :meth:`check_budget` is made here too (None: left to :meth:`check_budget`).
 
         ``backend="cuda"`` runs the lanes of the shared-normal time kernels on a GPU
-        (method "time", a rigid contact, a TangentialSpring or a MindlinSpring at m2 =
-        1, 2 or >= 3; refused otherwise, and where no GPU can be used, with the reason).
+        (method "time"; a rigid contact, a TangentialSpring or a MindlinSpring, whose
+        set-ups that leave contact at an m2 other than 1, 2 or >= 3 run on the batched
+        kernel on the CPU as with ``backend="cpu"``; refused otherwise, and where no GPU
+        can be used, with the reason).
         """
         model = as_model(model_or_params)
         method = check.one_of("method", method, METHODS)
