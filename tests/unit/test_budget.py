@@ -267,3 +267,22 @@ def test_shortest_period_resolves_the_tangential_oscillation_and_the_drive():
     assert budget.shortest_period(both) == pytest.approx(2 * math.pi * math.sqrt(p.mass / 2e9))
     harmonic = ms.Model(p, drive=ms.HarmonicDrive(mean=0.0, amplitude=0.1, frequency=5000.0))
     assert budget.shortest_period(harmonic) == pytest.approx(1 / 5000.0)
+
+
+def test_the_estimate_counts_the_threads_the_kernels_run_on():
+    """numba's thread count lowered below the CPUs (NUMBA_NUM_THREADS,
+    numba.set_num_threads) lowers the threads the estimate divides the work by."""
+    import numba
+
+    before = numba.get_num_threads()
+    try:
+        numba.set_num_threads(1)
+        assert cost.batch_threads() == 1
+        one = SweepSpec.build(ms.Model(P, damping=ms.Viscous(0.01)), None, MAP_F, MAP_A,
+                              method="time", duration=1.0).estimate().seconds  # fmt: skip
+    finally:
+        numba.set_num_threads(before)
+    every = SweepSpec.build(ms.Model(P, damping=ms.Viscous(0.01)), None, MAP_F, MAP_A,
+                            method="time", duration=1.0).estimate().seconds  # fmt: skip
+    if cost.batch_threads() > 1:
+        assert one > every

@@ -8,6 +8,7 @@ from __future__ import annotations
 import os
 
 from microslip.budget import Estimate
+from microslip.integrators.threads import thread_count
 
 __all__ = ["batch_threads", "estimate_sweep", "shared_chunk_rounds"]
 
@@ -79,11 +80,14 @@ STEADY_TABLES_HELD = 32  # steady_state.BATCH_AMPLITUDES: tables held at once
 
 
 def batch_threads() -> int:
-    """Threads the batched kernel runs its blocks on: the CPUs this process may use."""
+    """Threads the kernels run at once: numba's thread count
+    (:func:`~microslip.integrators.threads.thread_count`, which ``NUMBA_NUM_THREADS`` and
+    ``numba.set_num_threads`` lower), at most the CPUs this process may use."""
     try:
-        return max(1, len(os.sched_getaffinity(0)))
+        cpus = len(os.sched_getaffinity(0))
     except (AttributeError, OSError):
-        return max(1, os.cpu_count() or 1)
+        cpus = os.cpu_count() or 1
+    return max(1, min(cpus, thread_count()))
 
 
 def shared_chunk_rounds(setups: int, threads: int | None = None) -> int:
