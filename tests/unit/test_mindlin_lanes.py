@@ -22,6 +22,7 @@ from scipy.integrate import solve_ivp
 import microslip as ms
 from microslip.integrators import mindlin_lane_law as law
 from microslip.integrators import normal_tape as nt
+from microslip.integrators import threads
 from microslip.integrators.mindlin_lanes import run_mindlin_lanes
 from microslip.integrators.normal_tape import normal_coefficients
 from microslip.simulation import initial_state_from_amplitude
@@ -225,7 +226,7 @@ def test_pieces_written_once_per_cycle_row_give_the_bits_of_writing_them_as_serv
 
     cached, switches, flagged = lanes()
     status = ml._run_group(C, y0, ydot0, RATIO, cycle, shape, duration, DT, cached, switches,
-                           flagged)  # fmt: skip
+                           flagged, threads.stop_flag())  # fmt: skip
     assert status == 0 and switches.sum() > 10
     served, served_switches, served_flagged = lanes()
     flying = ml.start_lanes(C, y0, ydot0, served, forces.size)

@@ -163,9 +163,10 @@ def _scalar_step(s, mode, t, target, dt, graded_from, c, s1, have_s1, piece, tri
 
 @njit(cache=True, nogil=True)
 def _run_blocks(b_lo, b_hi, coeffs, states, directions, times, switches, flagged, status, grid,
-                dt, block):  # fmt: skip
+                dt, block, stop):  # fmt: skip
     """Integrate blocks [b_lo, b_hi) of ``block`` lanes over ``grid`` (in place, rows =
-    lanes; a range of :func:`threads.run_ranges`)."""
+    lanes; a range of :func:`threads.run_ranges`, which returns at the next step once
+    ``stop[0]`` is set: :func:`threads.stop_flag`)."""
     for b in range(b_lo, b_hi):
         lo = b * block
         # A block-local copy: row views of it touch no memory shared between threads
@@ -190,6 +191,8 @@ def _run_blocks(b_lo, b_hi, coeffs, states, directions, times, switches, flagged
         graded_from = np.full(block, math.nan)  # per lane, see _scalar_step
         t_prev = 0.0
         for k in range(grid.shape[0]):
+            if stop[0] != 0:
+                return  # interrupted: the results are not read
             target = grid[k]
             h = target - t_prev
             count = pp.vector_pass(variant, block, h, buf)
@@ -355,9 +358,10 @@ def simulate_batch(
     switches = np.empty(n_pad, dtype=np.int64)
     flagged = np.empty(n_pad, dtype=np.int64)
     status = np.empty(n_pad, dtype=np.int64)
+    stop = threads.stop_flag()
     threads.run_ranges(
         _run_blocks, n_pad // block, lane_coeffs, states, directions, times, switches, flagged,
-        status, grid, dt, block, per_task=1,
+        status, grid, dt, block, stop, per_task=1, stop=stop,
     )  # fmt: skip
     states, directions, times = states[:n], directions[:n], times[:n]
     switches, flagged, status = switches[:n], flagged[:n], status[:n]

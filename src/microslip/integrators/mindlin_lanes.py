@@ -42,6 +42,7 @@ from microslip.integrators.shared_lanes import (
     FIRST_ROW,
     LANE_STALLED,
     OK,
+    STOPPED,
     LaneStalledError,
     put_group,
     raise_on_failure,
@@ -148,11 +149,12 @@ def _vector_pass(lanes, n, a, piece, h_int, h2_kint):
 
 
 @njit(cache=True)
-def _run_group(c, y0, ydot0, ratio, cycle, shape, t_end, dt, lanes, switches, flagged):
+def _run_group(c, y0, ydot0, ratio, cycle, shape, t_end, dt, lanes, switches, flagged, stop):
     """One normal set-up and its lanes, in place; returns the status. On a repeated tape
     (``shape``: period rows, tail rows, repeats, T) each row's piece is written once
     (:func:`_piece_table`) and read every period: a free vibration's pieces are the same
-    every period, and set_piece is most of a set-up's own cost."""
+    every period, and set_piece is most of a set-up's own cost. Returns STOPPED after a
+    period or a block of tape once ``stop[0]`` is set (:func:`threads.stop_flag`)."""
     n = lanes.shape[1]
     flying = start_lanes(c, y0, ydot0, lanes, n)
     laws = as_tuple(c)  # the coefficients as the pieces' laws take them, once per set-up
@@ -164,6 +166,8 @@ def _run_group(c, y0, ydot0, ratio, cycle, shape, t_end, dt, lanes, switches, fl
         table = np.zeros((total, law.PIECE))
         coarse = _piece_table(table, cycle, total, laws, ratio)
         for _ in range(repeats):
+            if stop[0] != 0:
+                return STOPPED
             status, flying = _run_rows(
                 lanes, cycle, FIRST_ROW, period_rows, table, CACHED, coarse, laws, flying,
                 switches, flagged,
@@ -178,6 +182,8 @@ def _run_group(c, y0, ydot0, ratio, cycle, shape, t_end, dt, lanes, switches, fl
     law.set_setup(piece[0], c[MASS], c[GRAVITY], ratio)
     carry, tape, work = nt.tape_buffers(y0, ydot0)
     while True:
+        if stop[0] != 0:
+            return STOPPED
         rows, tape_status = nt.fill_tape(carry, c, t_end, dt, tape, work)
         if tape_status > 1:
             return tape_status
@@ -275,15 +281,16 @@ def _run_rows(lanes, rows, lo, hi, pieces, cached, coarse, laws, flying, switche
 
 @njit(cache=True, nogil=True)
 def _run_groups(g_lo, g_hi, normal_c, y0, ydot0, ratio, cycles, offsets, shapes, starts, lanes,
-                switches, flagged, status, t_end, dt):  # fmt: skip
-    """Set-ups [g_lo, g_hi) and their lanes, in place (a range of :func:`threads.run_ranges`)."""
+                switches, flagged, status, t_end, dt, stop):  # fmt: skip
+    """Set-ups [g_lo, g_hi) and their lanes, in place (a range of :func:`threads.run_ranges`,
+    ``stop`` its flag)."""
     for g in range(g_lo, g_hi):
         lo, hi = starts[g], starts[g + 1]
         group_lanes, group_switches, group_flagged = take_group(lanes, lo, hi)
         cycle, shape = periodic_tape.group_cycle(cycles, offsets, shapes, g)
         status[g] = _run_group(
             normal_c[g].copy(), y0[g], ydot0[g], ratio[g], cycle, shape, t_end, dt,
-            group_lanes, group_switches, group_flagged,
+            group_lanes, group_switches, group_flagged, stop,
         )  # fmt: skip
         put_group(lanes, switches, flagged, lo, group_lanes, group_switches, group_flagged)
 
@@ -324,9 +331,11 @@ def run_mindlin_lanes(normal_coeffs, normal_states0, ratio, group_of_lane, force
     flagged = np.zeros(n_lanes, dtype=np.int64)
     status = np.zeros(n_groups, dtype=np.int64)
     cycles = periodic_tape.cycles(normal_coeffs, states0, periods, t_end, dt)
+    stop = threads.stop_flag()
     threads.run_ranges(
         _run_groups, n_groups, normal_coeffs, states0[:, 0].copy(), states0[:, 1].copy(), ratio,
-        *cycles, starts, lanes, switches, flagged, status, float(t_end), float(dt), per_task=1,
+        *cycles, starts, lanes, switches, flagged, status, float(t_end), float(dt), stop,
+        per_task=1, stop=stop,
     )  # fmt: skip
     raise_if_too_coarse(status == STEP_TOO_COARSE, dt)
     results = lanes[X], lanes[V], lanes[FS], lanes[MODE], switches, flagged

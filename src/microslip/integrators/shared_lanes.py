@@ -39,6 +39,7 @@ from microslip.model.normal import normal_force
 # Status per group.
 OK = 0
 LANE_STALLED = 5  # a lane switched more than MAX_SWITCHES_PER_STEP times in one piece
+STOPPED = 9  # an interrupt raised the run's stop flag (threads.stop_flag): results unread
 
 
 class LaneStalledError(RuntimeError):
@@ -194,20 +195,23 @@ def _lanes_over_rows(tape, r0, r1, lanes, n, n_active, switches, flagged):
 
 
 @njit(cache=True)
-def _run_group(c, y0, ydot0, cycle, shape, t_end, dt, lanes, switches, flagged, park):
+def _run_group(c, y0, ydot0, cycle, shape, t_end, dt, lanes, switches, flagged, park, stop):
     """One normal set-up and its lanes (rows FM ... FLAG of ``lanes``), sorted by
     decreasing |F|/μ_s, in place; returns the status. Only lanes [0, n_active) can be
     moving: past it every lane sticks, and one that a piece cannot release
     (|F|/μ_s <= min P) is left alone. A periodic normal motion (``shape`` from
     :func:`periodic_tape.cycle_rows` with period rows > 0) goes through
-    :func:`_run_cycle`."""
+    :func:`_run_cycle`. Returns STOPPED after a block of tape once ``stop[0]`` is set
+    (:func:`threads.stop_flag`)."""
     n = lanes.shape[1]
     start_modes(lanes, 0, n, normal_force(0.0, y0, ydot0, as_tuple(c)))
     n_active = _active_end(lanes, n)
     if shape[0] > 0:
-        return _run_cycle(cycle, shape, lanes, switches, flagged, n_active, park)
+        return _run_cycle(cycle, shape, lanes, switches, flagged, n_active, park, stop)
     carry, tape, work = nt.tape_buffers(y0, ydot0)
     while True:
+        if stop[0] != 0:
+            return STOPPED
         rows, tape_status = nt.fill_tape(carry, c, t_end, dt, tape, work)
         if tape_status > 1:
             return tape_status
@@ -221,9 +225,10 @@ def _run_group(c, y0, ydot0, cycle, shape, t_end, dt, lanes, switches, flagged, 
 
 
 @njit(cache=True)
-def _run_cycle(cycle, shape, lanes, switches, flagged, n_active, park):
+def _run_cycle(cycle, shape, lanes, switches, flagged, n_active, park, stop):
     """The lanes through ``repeats`` periods of ``cycle`` and its tail (``shape`` =
-    (period rows, tail rows, repeats, T)), in place; returns the status.
+    (period rows, tail rows, repeats, T)), in place; returns the status (STOPPED after a
+    period once ``stop[0]`` is set).
 
     Every period's pieces are the same rows, and a lane's law reads its state (ẋ, mode)
     and never x. So a lane that starts a period in the state it started the previous one
@@ -239,6 +244,8 @@ def _run_cycle(cycle, shape, lanes, switches, flagged, n_active, park):
     book = parking.new_book(n)
     n_live = n
     for k in range(repeats):
+        if stop[0] != 0:
+            return STOPPED
         if park:
             parking.mark_period_start(lanes, switches, flagged, book, n_live, X, V, MODE)
         status, n_active = _lanes_over_rows(
@@ -262,15 +269,16 @@ def _run_cycle(cycle, shape, lanes, switches, flagged, n_active, park):
 
 @njit(cache=True, nogil=True)
 def _run_groups(g_lo, g_hi, normal_c, y0, ydot0, cycles, offsets, shapes, starts, lanes,
-                switches, flagged, status, t_end, dt, park):  # fmt: skip
-    """Set-ups [g_lo, g_hi) and their lanes, in place (a range of :func:`threads.run_ranges`)."""
+                switches, flagged, status, t_end, dt, park, stop):  # fmt: skip
+    """Set-ups [g_lo, g_hi) and their lanes, in place (a range of :func:`threads.run_ranges`,
+    ``stop`` its flag)."""
     for g in range(g_lo, g_hi):
         lo, hi = starts[g], starts[g + 1]
         group_lanes, group_switches, group_flagged = take_group(lanes, lo, hi)
         cycle, shape = periodic_tape.group_cycle(cycles, offsets, shapes, g)
         status[g] = _run_group(
             normal_c[g].copy(), y0[g], ydot0[g], cycle, shape, t_end, dt, group_lanes,
-            group_switches, group_flagged, park,
+            group_switches, group_flagged, park, stop,
         )  # fmt: skip
         put_group(lanes, switches, flagged, lo, group_lanes, group_switches, group_flagged)
 
@@ -308,10 +316,11 @@ def run_shared(normal_coeffs, normal_states0, group_of_lane, forces, mu_static, 
     flagged = np.zeros(n_lanes, dtype=np.int64)
     status = np.zeros(normal_coeffs.shape[0], dtype=np.int64)
     cycles = periodic_tape.cycles(normal_coeffs, normal_states0, periods, t_end, dt)
+    stop = threads.stop_flag()
     threads.run_ranges(
         _run_groups, normal_coeffs.shape[0], normal_coeffs, normal_states0[:, 0].copy(),
         normal_states0[:, 1].copy(), *cycles, starts, lanes, switches, flagged, status,
-        float(t_end), float(dt), bool(park), per_task=1,
+        float(t_end), float(dt), bool(park), stop, per_task=1, stop=stop,
     )  # fmt: skip
     raise_on_failure(status, "shared-normal kernel")
     return unpack_lanes(lanes, order, switches, flagged)

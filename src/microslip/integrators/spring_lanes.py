@@ -34,6 +34,7 @@ from microslip.integrators.kernel import as_tuple
 from microslip.integrators.shared_lanes import (
     LANE_STALLED,
     OK,
+    STOPPED,
     put_group,
     raise_on_failure,
     take_group,
@@ -179,8 +180,9 @@ def fly(lanes, n, h, flying):
 
 
 @njit(cache=True)
-def _run_group(c, y0, ydot0, k_t, cycle, shape, t_end, dt, lanes, switches, flagged):
-    """One normal set-up and its lanes, in place; returns the status."""
+def _run_group(c, y0, ydot0, k_t, cycle, shape, t_end, dt, lanes, switches, flagged, stop):
+    """One normal set-up and its lanes, in place; returns the status (STOPPED after a
+    block of tape once ``stop[0]`` is set: :func:`threads.stop_flag`)."""
     n = lanes.shape[1]
     mass = c[MASS]
     omega = math.sqrt(k_t / mass)
@@ -189,6 +191,8 @@ def _run_group(c, y0, ydot0, k_t, cycle, shape, t_end, dt, lanes, switches, flag
     flying = start_lanes(c, y0, ydot0, lanes, n)
     carry, tape, work = nt.tape_buffers(y0, ydot0)
     while True:
+        if stop[0] != 0:
+            return STOPPED
         if shape[0] > 0:
             rows, tape_status = periodic_tape.repeat_rows(carry, tape, cycle, shape)
         else:
@@ -228,15 +232,16 @@ def _run_group(c, y0, ydot0, k_t, cycle, shape, t_end, dt, lanes, switches, flag
 
 @njit(cache=True, nogil=True)
 def _run_groups(g_lo, g_hi, normal_c, y0, ydot0, stiffness, cycles, offsets, shapes, starts, lanes,
-                switches, flagged, status, t_end, dt):  # fmt: skip
-    """Set-ups [g_lo, g_hi) and their lanes, in place (a range of :func:`threads.run_ranges`)."""
+                switches, flagged, status, t_end, dt, stop):  # fmt: skip
+    """Set-ups [g_lo, g_hi) and their lanes, in place (a range of :func:`threads.run_ranges`,
+    ``stop`` its flag)."""
     for g in range(g_lo, g_hi):
         lo, hi = starts[g], starts[g + 1]
         group_lanes, group_switches, group_flagged = take_group(lanes, lo, hi)
         cycle, shape = periodic_tape.group_cycle(cycles, offsets, shapes, g)
         status[g] = _run_group(
             normal_c[g].copy(), y0[g], ydot0[g], stiffness[g], cycle, shape, t_end, dt,
-            group_lanes, group_switches, group_flagged,
+            group_lanes, group_switches, group_flagged, stop,
         )  # fmt: skip
         put_group(lanes, switches, flagged, lo, group_lanes, group_switches, group_flagged)
 
@@ -273,9 +278,11 @@ def run_spring_lanes(normal_coeffs, normal_states0, stiffness, group_of_lane, fo
     flagged = np.zeros(n_lanes, dtype=np.int64)
     status = np.zeros(n_groups, dtype=np.int64)
     cycles = periodic_tape.cycles(normal_coeffs, states0, periods, t_end, dt)
+    stop = threads.stop_flag()
     threads.run_ranges(
         _run_groups, n_groups, normal_coeffs, states0[:, 0].copy(), states0[:, 1].copy(), stiffness,
-        *cycles, starts, lanes, switches, flagged, status, float(t_end), float(dt), per_task=1,
+        *cycles, starts, lanes, switches, flagged, status, float(t_end), float(dt), stop,
+        per_task=1, stop=stop,
     )  # fmt: skip
     raise_on_failure(status, "spring-lane kernel")
     return lanes[X], lanes[V], lanes[FS], lanes[MODE], switches, flagged

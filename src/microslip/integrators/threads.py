@@ -17,7 +17,11 @@ the results do not depend on the number of threads or on which thread ran which 
 
 Compiled code holds a signal off until it returns, and a map's chunk may run for
 minutes: called from the main thread, :func:`run_ranges` runs every range on a helper
-and waits where Ctrl-C reaches it, and raises it at once.
+and waits where Ctrl-C reaches it, and raises it at once. The ranges already running
+cannot be stopped from outside; a kernel that may run long takes a stop flag
+(:func:`stop_flag`), which :func:`run_ranges` raises on an interrupt, and reads it
+between its blocks of work, so that an interrupted map in a library session (a
+notebook) does not keep the cores busy to its end.
 """
 
 from __future__ import annotations
@@ -30,10 +34,11 @@ from concurrent.futures import Future
 from typing import Any
 
 import numba
+import numpy as np
 
 from microslip import _jit_cache  # noqa: F401  (registers the cache before any @njit)
 
-__all__ = ["run_ranges", "thread_count"]
+__all__ = ["run_ranges", "stop_flag", "thread_count"]
 
 
 def thread_count() -> int:
@@ -94,6 +99,14 @@ def _new_pool_after_fork() -> None:
 os.register_at_fork(after_in_child=_new_pool_after_fork)
 
 
+def stop_flag() -> np.ndarray:
+    """A kernel's stop flag for :func:`run_ranges`' ``stop``: one int64, 0 until an
+    interrupt abandons the ranges, then 1. A kernel reads ``stop[0]`` between its blocks
+    of work (a tape block, a period) and returns at once where it is not 0; its results
+    are then not read."""
+    return np.zeros(1, dtype=np.int64)
+
+
 # Ranges per thread when the items are cheap and many: enough for the threads to even out
 # their load, few enough that calling the kernel (~10 µs from Python) stays small.
 RANGES_PER_THREAD = 8
@@ -105,6 +118,7 @@ def run_ranges(
     *args: Any,
     per_task: int | None = None,
     interruptible: bool = True,
+    stop: np.ndarray | None = None,
 ) -> None:
     """``kernel(lo, hi, *args)`` on consecutive ranges of at most ``per_task`` items that
     cover [0, n_items) (default: about RANGES_PER_THREAD ranges per thread; 1 where
@@ -116,8 +130,11 @@ def run_ranges(
     Called from the main thread, every range runs on a helper while this thread waits,
     so that Ctrl-C and SIGTERM reach it at once: compiled code holds a signal off until
     it returns. The interrupt is raised here without waiting for the ranges already
-    running (they cannot be stopped; they end on their own and their results, written
-    into ``args``, are not to be read). That hand-off costs ~0.1 ms a call: a caller
+    running: their results, written into ``args``, are not to be read. Compiled code
+    cannot be stopped from outside: a kernel that may run long takes a ``stop`` flag
+    (:func:`stop_flag`, also among its ``args``), set here before the interrupt is raised,
+    and returns at its next check of it; any other range runs to its end in the
+    background. That hand-off costs ~0.1 ms a call: a caller
     whose calls are short and many (an analysis's per-orbit work, milliseconds each)
     passes ``interruptible=False``, and this thread then takes its share of the ranges,
     as it does from another thread (a Dask worker), and runs them all itself on one
@@ -135,10 +152,10 @@ def run_ranges(
         return
     lock = threading.Lock()
     pending = iter(ranges)
-    stop = threading.Event()
+    halted = threading.Event()
 
     def work() -> None:
-        while not stop.is_set():
+        while not halted.is_set():
             with lock:
                 item = next(pending, None)
             if item is None:
@@ -146,7 +163,7 @@ def run_ranges(
             try:
                 kernel(item[0], item[1], *args)
             except BaseException:
-                stop.set()
+                halted.set()
                 raise
 
     if not on_main:
@@ -156,7 +173,7 @@ def run_ranges(
         try:
             work()
         finally:
-            _halt(helpers, stop)
+            _halt(helpers, halted)
             for future in helpers:
                 if not future.cancelled():
                     future.exception()  # waits for it to end
@@ -168,18 +185,20 @@ def run_ranges(
             for future in helpers:
                 future.exception()
         except BaseException:
-            # Ctrl-C or SIGTERM: raised at once. The ranges already running cannot be
-            # stopped from here; they end on their own, their results unread.
-            _halt(helpers, stop)
+            # Ctrl-C or SIGTERM: raised at once. The ranges already running end at their
+            # kernel's next check of ``stop`` (or their own end), their results unread.
+            if stop is not None:
+                stop[0] = 1
+            _halt(helpers, halted)
             raise
     for future in helpers:
         if not future.cancelled() and future.exception() is not None:
             raise future.exception()
 
 
-def _halt(helpers: list[Future], stop: threading.Event) -> None:
+def _halt(helpers: list[Future], halted: threading.Event) -> None:
     """Stop handing out ranges; a helper still queued (behind another call's work) has
     none left to run."""
-    stop.set()
+    halted.set()
     for future in helpers:
         future.cancel()
