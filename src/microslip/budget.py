@@ -42,6 +42,7 @@ __all__ = [
     "check",
     "check_fits",
     "default_save_every",
+    "duration_text",
     "estimate_simulation",
     "event_steps_per_period",
 ]
@@ -94,7 +95,8 @@ class Estimate:
     bytes: float
 
 
-def _duration_text(seconds: float) -> str:
+def duration_text(seconds: float) -> str:
+    """``seconds`` [s] as text in s, min, h or days (3 significant digits)."""
     if seconds < 120.0:
         return f"{seconds:.3g} s"
     if seconds < 7200.0:
@@ -121,8 +123,8 @@ def check(estimate: Estimate, *, allow_large: bool = False) -> None:
         return
     raise WorkLimitError(
         f"{estimate.what}: estimated {estimate.work:.3g} {estimate.unit}, "
-        f"{_duration_text(estimate.seconds)} run time and {_bytes_text(estimate.bytes)} memory; "
-        f"limits {_duration_text(TIME_LIMIT_S)} run time and {_bytes_text(memory_limit)} memory "
+        f"{duration_text(estimate.seconds)} run time and {_bytes_text(estimate.bytes)} memory; "
+        f"limits {duration_text(TIME_LIMIT_S)} run time and {_bytes_text(memory_limit)} memory "
         f"({MEMORY_FRACTION:.0%} of the {_bytes_text(available)} available); "
         "pass allow_large=True (CLI: --allow-large) to go ahead anyway"
     )

@@ -229,3 +229,22 @@ def test_second_map_on_the_same_output_stops_at_once(tmp_path):
     assert first.returncode == 130
     assert_one_line_failure(130, first_err, "interrupted", "resume", code=130)
     assert not out.exists() and not lock.exists()
+
+
+def test_a_long_map_says_what_to_expect_before_it_starts(capsys, monkeypatch, tmp_path):
+    """A run estimated at LONG_RUN_S or more notes its chunks, its estimate and where a
+    Ctrl-C leaves its work, on stderr before it starts (a log gets no progress bar); a
+    short run and a quiet one say nothing of it."""
+    from microslip.cli import sweep_command
+
+    grid = ["map", "--force", "0.1:0.9:3", "--amplitude", "0:3e-7:3", "--out"]
+    status, _, err = run(capsys, *grid, tmp_path / "short.nc")
+    assert status == 0 and "estimated" not in err
+    monkeypatch.setattr(sweep_command, "LONG_RUN_S", 0.0)
+    status, _, err = run(capsys, *grid, tmp_path / "quiet.nc", "--quiet")
+    assert status == 0 and err == ""
+    status, _, err = run(capsys, *grid, tmp_path / "long.nc")
+    assert status == 0
+    note = [line for line in err.splitlines() if "estimated to take about" in line]
+    assert len(note) == 1 and note[0].startswith("microslip: note: 1 chunks, ")
+    assert str(tmp_path / "long.nc.partial.zarr") in note[0]

@@ -183,7 +183,7 @@ def _add_sweeps(sub) -> None:
         p.add_argument("--scheduler", help="Dask scheduler address tcp://HOST:PORT")
         p.add_argument("--workers", type=integer, help="start a local Dask cluster of N workers")
         p.add_argument("--chunk", type=integer, help="amplitudes per chunk")
-        _flag(p, "--quiet", help="no progress bar or summary")
+        _flag(p, "--quiet", help="no progress bar, estimate note or summary")
         _add_output_options(p)
         _add_model_options(p)
         p.set_defaults(handler=cmd_sweep)

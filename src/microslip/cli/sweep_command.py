@@ -18,6 +18,10 @@ from microslip.cli.interrupts import RUN, interrupt_for
 from microslip.cli.model_options import require_paper_tangential
 from microslip.cli.options import CliError, Options, gather, refuse_underscores
 
+# A run estimated at least this long [s] says so before it starts: a log (no progress bar
+# off a terminal) then shows what to expect, and where a Ctrl-C leaves its work.
+LONG_RUN_S = 60.0
+
 #: Why map and sweep refuse a tangential part other than the paper's.
 SWEEP_INSTEAD = (
     "map and sweep compute the mean velocity under the constant forces of --force with "
@@ -68,6 +72,7 @@ def _check_scheduler(opts: Options) -> None:
 
 
 def cmd_sweep(args: argparse.Namespace) -> int:
+    from microslip.budget import duration_text
     from microslip.io.output import (
         PLOT_SUFFIXES,
         OutputBatch,
@@ -157,6 +162,13 @@ def cmd_sweep(args: argparse.Namespace) -> int:
     spec.check_budget(allow_large=bool(opts.get("allow_large", False)))
     work_store = out.with_name(out.name + ".partial.zarr")
     quiet = bool(opts.get("quiet", False))
+    if not quiet:
+        seconds = spec.estimate().seconds
+        if seconds >= LONG_RUN_S:
+            _note(
+                f"{spec.n_chunks} chunks, estimated to take about {duration_text(seconds)} "
+                f"here; Ctrl-C keeps the finished chunks in {work_store} for a rerun to resume"
+            )
     started = time.perf_counter()
     # One run per output at a time: a second one stops here at once (StoreBusyError).
     with exclusive_lock(out), OutputBatch(overwrite=overwrite) as batch:
