@@ -284,7 +284,8 @@ def _run_groups(g_lo, g_hi, normal_c, y0, ydot0, cycles, offsets, shapes, starts
 
 
 def run_shared(normal_coeffs, normal_states0, group_of_lane, forces, mu_static, mu_kinetic,
-               t_end, dt, x0=None, v0=None, periods=None, park=True):  # fmt: skip
+               t_end, dt, x0=None, v0=None, periods=None, park=True,
+               on_done=None):  # fmt: skip
     """Final tangential states of many lanes on shared normal motions (arrays, SI).
 
     Parameters
@@ -302,6 +303,8 @@ def run_shared(normal_coeffs, normal_states0, group_of_lane, forces, mu_static, 
     park : on a repeated tape, a lane that starts a period as it started the last one
         takes its remaining periods at once (:func:`_run_cycle`); False steps every
         lane through every period (the same result to rounding, slower).
+    on_done : called with 1 as each set-up ends, from the thread that ran it (a
+        caller's progress: :func:`threads.run_ranges`).
 
     Returns (x, ẋ, mode, switches, flagged) per lane at ``t_end``; raises RuntimeError
     if a normal integration or a lane fails.
@@ -320,7 +323,7 @@ def run_shared(normal_coeffs, normal_states0, group_of_lane, forces, mu_static, 
     threads.run_ranges(
         _run_groups, normal_coeffs.shape[0], normal_coeffs, normal_states0[:, 0].copy(),
         normal_states0[:, 1].copy(), *cycles, starts, lanes, switches, flagged, status,
-        float(t_end), float(dt), bool(park), stop, per_task=1, stop=stop,
+        float(t_end), float(dt), bool(park), stop, per_task=1, stop=stop, on_done=on_done,
     )  # fmt: skip
     raise_on_failure(status, "shared-normal kernel")
     return unpack_lanes(lanes, order, switches, flagged)

@@ -247,7 +247,7 @@ def _run_groups(g_lo, g_hi, normal_c, y0, ydot0, stiffness, cycles, offsets, sha
 
 
 def run_spring_lanes(normal_coeffs, normal_states0, stiffness, group_of_lane, forces,
-                     mu_static, mu_kinetic, t_end, dt, periods=None):  # fmt: skip
+                     mu_static, mu_kinetic, t_end, dt, periods=None, on_done=None):  # fmt: skip
     """Final states of many compliant lanes (a contact point on a spring of constant
     stiffness) on shared normal motions, each from rest with a relaxed spring (SI).
 
@@ -262,6 +262,7 @@ def run_spring_lanes(normal_coeffs, normal_states0, stiffness, group_of_lane, fo
     t_end : end time [s]; dt : RK4 step of the normal motion [s] (grid k·dt).
     periods : (G,) period [s] of each set-up's periodic normal motion, else 0 (default:
         all 0): :func:`~microslip.integrators.shared_lanes.run_shared`.
+    on_done : as for :func:`~microslip.integrators.shared_lanes.run_shared`.
 
     Returns (x [m], ẋ [m/s], f [N], mode, switches, flagged) per lane at ``t_end``
     (mode 0 stick, ±1 slip, 2 flight); raises RuntimeError if a normal integration or a
@@ -282,7 +283,7 @@ def run_spring_lanes(normal_coeffs, normal_states0, stiffness, group_of_lane, fo
     threads.run_ranges(
         _run_groups, n_groups, normal_coeffs, states0[:, 0].copy(), states0[:, 1].copy(), stiffness,
         *cycles, starts, lanes, switches, flagged, status, float(t_end), float(dt), stop,
-        per_task=1, stop=stop,
+        per_task=1, stop=stop, on_done=on_done,
     )  # fmt: skip
     raise_on_failure(status, "spring-lane kernel")
     return lanes[X], lanes[V], lanes[FS], lanes[MODE], switches, flagged

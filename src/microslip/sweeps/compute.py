@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from collections.abc import Callable
+
 import numpy as np
 
 from microslip.analysis.steady_state import ORBIT_STEPS, mean_velocity_grid
@@ -10,8 +12,12 @@ from microslip.simulation import DEFAULT_RK4_STEPS_PER_PERIOD, initial_state_fro
 from microslip.sweeps.kernel_choice import repeats_from_rest, time_kernel
 from microslip.sweeps.spec import ChunkKey, SweepSpec
 
+# A caller's progress: called with the fraction [1] of the work of a compute call just
+# done (a time run's set-ups as they end, from the threads that ran them).
+Progress = Callable[[float], None]
 
-def compute_chunk(spec: SweepSpec, key: ChunkKey) -> np.ndarray:
+
+def compute_chunk(spec: SweepSpec, key: ChunkKey, progress: Progress | None = None) -> np.ndarray:
     """Mean velocity [m/s] on the chunk's (force, amplitude) block.
 
     "steady": the exact long-time mean (inf where F > μ m g). "time": x(T)/T after a
@@ -21,10 +27,11 @@ def compute_chunk(spec: SweepSpec, key: ChunkKey) -> np.ndarray:
     :mod:`microslip.integrators.mindlin_lanes` for a MindlinSpring): one RK4 normal
     motion per amplitude, shared by every force.
     Each point is computed independently of the chunking, so results are bit-identical
-    however the sweep is split or distributed.
+    however the sweep is split or distributed. ``progress``, where given, hears of a time
+    run's set-ups as they end on the CPU (:data:`Progress`).
     """
     if spec.forced:
-        return forced_chunk(spec, key)
+        return forced_chunk(spec, key, progress)
     if spec.base.damping is not None and spec.method == "steady":
         return damped_free_chunk(spec, key)
     params = spec.params_at(key)
@@ -38,9 +45,17 @@ def compute_chunk(spec: SweepSpec, key: ChunkKey) -> np.ndarray:
     dt = _time_step(spec, spec.model_at(key))
     normal0 = np.array([initial_state_from_amplitude(params, a)[:2] for a in amplitudes])
     x = _shared_run(
-        [spec.model_at(key)] * amplitudes.size, normal0, forces, spec.duration, dt, spec.backend
-    )
+        [spec.model_at(key)] * amplitudes.size, normal0, forces, spec.duration, dt, spec.backend,
+        _per_setup(progress, amplitudes.size),
+    )  # fmt: skip
     return (x / spec.duration).T
+
+
+def _per_setup(progress: Progress | None, n_setups: int) -> Callable[[int], None] | None:
+    """A kernel's ``on_done`` (set-ups ended) as ``progress`` of a run of ``n_setups``."""
+    if progress is None:
+        return None
+    return lambda done: progress(done / n_setups)
 
 
 def shares_runs(spec: SweepSpec) -> bool:
@@ -49,16 +64,22 @@ def shares_runs(spec: SweepSpec) -> bool:
     return spec.forced and spec.method == "time"
 
 
-def compute_chunks(spec: SweepSpec, keys: list[ChunkKey]) -> list[np.ndarray]:
+def compute_chunks(
+    spec: SweepSpec, keys: list[ChunkKey], progress: Progress | None = None
+) -> list[np.ndarray]:
     """:func:`compute_chunk` of each key, the same bits; a forced model's time chunks go
     through one shared-normal run, so that their normal set-ups (one per chunk) spread
-    over the cores (a set-up's lanes depend on nothing else in the run)."""
+    over the cores (a set-up's lanes depend on nothing else in the run). ``progress``
+    hears of the fraction of all the keys' work done."""
     if not shares_runs(spec):
-        return [compute_chunk(spec, key) for key in keys]
-    return _forced_time_chunks(spec, keys)
+        share = None if progress is None else (lambda done: progress(done / len(keys)))
+        return [compute_chunk(spec, key, share) for key in keys]
+    return _forced_time_chunks(spec, keys, progress)
 
 
-def _forced_time_chunks(spec: SweepSpec, keys: list[ChunkKey]) -> list[np.ndarray]:
+def _forced_time_chunks(
+    spec: SweepSpec, keys: list[ChunkKey], progress: Progress | None = None
+) -> list[np.ndarray]:
     """A forced model's time chunks through one shared-normal run (:func:`compute_chunks`);
     each chunk's model runs on a shared-normal kernel."""
     models = [spec.model_at(key) for key in keys]
@@ -68,8 +89,9 @@ def _forced_time_chunks(spec: SweepSpec, keys: list[ChunkKey]) -> list[np.ndarra
         picked = [k for k, step in enumerate(steps) if step == dt]
         normal0 = np.array([[models[k].params.static_deflection, 0.0] for k in picked])
         x = _shared_run(
-            [models[k] for k in picked], normal0, spec.forces, spec.duration, dt, spec.backend
-        )
+            [models[k] for k in picked], normal0, spec.forces, spec.duration, dt, spec.backend,
+            _per_setup(progress, len(keys)),
+        )  # fmt: skip
         for row, k in enumerate(picked):
             blocks[k] = (x[row] / spec.duration)[:, None]
     return blocks
@@ -99,7 +121,7 @@ def damped_free_chunk(spec: SweepSpec, key: ChunkKey) -> np.ndarray:
     return np.repeat(out[:, None], amplitudes.size, axis=1)
 
 
-def forced_chunk(spec: SweepSpec, key: ChunkKey) -> np.ndarray:
+def forced_chunk(spec: SweepSpec, key: ChunkKey, progress: Progress | None = None) -> np.ndarray:
     """A forced model's chunk: every force on one parameter set, shape (forces, 1).
 
     "steady": the reflected process over one period of the periodic orbit reached from
@@ -117,7 +139,7 @@ def forced_chunk(spec: SweepSpec, key: ChunkKey) -> np.ndarray:
     model = spec.model_at(key)
     forces = np.asarray(spec.forces, dtype=float)
     if spec.method == "time":
-        return _forced_time_chunks(spec, [key])[0]
+        return _forced_time_chunks(spec, [key], progress)[0]
     try:
         table = model_sliding_table(model)
     except NotPeriodOneError as error:
@@ -151,7 +173,7 @@ def _normal_periods(models, normal0) -> np.ndarray:
     return periods
 
 
-def _shared_run(models, normal0, forces, duration, dt, backend="cpu") -> np.ndarray:
+def _shared_run(models, normal0, forces, duration, dt, backend="cpu", on_done=None) -> np.ndarray:
     """x(duration) [m], shape (set-ups, forces), from rest on each normal set-up (one
     model per row of ``normal0``: y [m], ẏ [m/s] at t = 0) under every constant force
     [N], on the shared-normal kernel of the models' tangential contact (all rigid, all
@@ -159,7 +181,8 @@ def _shared_run(models, normal0, forces, duration, dt, backend="cpu") -> np.ndar
     ``backend`` "cuda" runs the lanes on a GPU
     (:mod:`~microslip.integrators.shared_lanes_cuda`,
     :mod:`~microslip.integrators.spring_lanes_cuda`,
-    :mod:`~microslip.integrators.mindlin_lanes_cuda`)."""
+    :mod:`~microslip.integrators.mindlin_lanes_cuda`); ``on_done`` as for
+    :func:`~microslip.integrators.shared_lanes.run_shared` (the CPU kernels only)."""
     from microslip.integrators.normal_tape import normal_coefficients
     from microslip.integrators.shared_lanes import run_shared
     from microslip.integrators.spring_lanes import run_spring_lanes
@@ -170,17 +193,20 @@ def _shared_run(models, normal0, forces, duration, dt, backend="cpu") -> np.ndar
     packed = {id(model): normal_coefficients(model.pack(0.0)) for model in models}
     coeffs = np.array([packed[id(model)] for model in models])
     if time_kernel(models[0]) == "mindlin":
-        x = _mindlin_run(models, coeffs, normal0, forces, duration, dt, periods, backend)
+        x = _mindlin_run(models, coeffs, normal0, forces, duration, dt, periods, backend,
+                         on_done)  # fmt: skip
         return x.reshape(n_setups, forces.size)
     groups, lane_forces, mu = _lane_arrays(models, forces)
     if models[0].is_compliant:
         stiffness = [model.tangential.stiffness for model in models]
         if backend == "cuda":
-            from microslip.integrators.spring_lanes_cuda import run_spring_lanes_cuda as run
+            from microslip.integrators.spring_lanes_cuda import run_spring_lanes_cuda
+
+            x = run_spring_lanes_cuda(coeffs, normal0, stiffness, groups, lane_forces, mu, mu,
+                                      duration, dt, periods=periods)[0]  # fmt: skip
         else:
-            run = run_spring_lanes
-        x = run(coeffs, normal0, stiffness, groups, lane_forces, mu, mu, duration, dt,
-                periods=periods)[0]  # fmt: skip
+            x = run_spring_lanes(coeffs, normal0, stiffness, groups, lane_forces, mu, mu,
+                                 duration, dt, periods=periods, on_done=on_done)[0]  # fmt: skip
     elif backend == "cuda":
         from microslip.integrators.shared_lanes_cuda import run_shared_cuda
 
@@ -188,7 +214,7 @@ def _shared_run(models, normal0, forces, duration, dt, backend="cpu") -> np.ndar
                             periods=periods)[0]  # fmt: skip
     else:
         x = run_shared(coeffs, normal0, groups, lane_forces, mu, mu, duration, dt,
-                       periods=periods)[0]  # fmt: skip
+                       periods=periods, on_done=on_done)[0]  # fmt: skip
     return x.reshape(n_setups, forces.size)
 
 
@@ -200,7 +226,7 @@ def _lane_arrays(models, forces):
     return groups, np.tile(forces, len(models)), mu
 
 
-def _mindlin_run(models, coeffs, normal0, forces, duration, dt, periods, backend):
+def _mindlin_run(models, coeffs, normal0, forces, duration, dt, periods, backend, on_done=None):
     """x(duration) [m] per lane (set-up-major) of the Mindlin lanes of :func:`_shared_run`.
 
     A set-up the lanes hand back runs on the batched RK4 kernel instead, one trajectory
@@ -217,7 +243,11 @@ def _mindlin_run(models, coeffs, normal0, forces, duration, dt, periods, backend
     if backend == "cuda":
         from microslip.integrators.mindlin_lanes_cuda import run_mindlin_lanes_cuda as run
     else:
-        from microslip.integrators.mindlin_lanes import run_mindlin_lanes as run
+        from functools import partial
+
+        from microslip.integrators.mindlin_lanes import run_mindlin_lanes
+
+        run = partial(run_mindlin_lanes, on_done=on_done)
 
     def lanes(setups):
         picked = [models[g] for g in setups]

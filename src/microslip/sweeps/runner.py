@@ -5,6 +5,7 @@ from __future__ import annotations
 import contextlib
 import os
 import sys
+import threading
 from collections import deque
 from collections.abc import Iterator
 from concurrent.futures import Future, ThreadPoolExecutor
@@ -88,6 +89,30 @@ def _progress(total: int, initial: int, show: bool):
         total=total, initial=initial, unit="chunk", desc="sweep", disable=not show,
         file=sys.stderr, dynamic_ncols=True,
     )  # fmt: skip
+
+
+def _advance(bar, chunks: int):
+    """A compute call's ``progress`` (:data:`~microslip.sweeps.compute.Progress`) for a
+    batch of ``chunks`` chunks on ``bar``: the fraction done moves the bar by that many
+    chunks. Called from the kernels' threads, so under a lock; None for a hidden bar."""
+    if bar.disable:
+        return None
+    lock = threading.Lock()
+
+    def progress(fraction: float) -> None:
+        with lock:
+            bar.update(fraction * chunks)
+
+    return progress
+
+
+def _compute(spec: SweepSpec, batch: list, progress) -> list[np.ndarray]:
+    """The blocks of a batch of chunks (:func:`_local_batches`), the kernels reporting to
+    ``progress`` where there is one (a shown bar)."""
+    extra = () if progress is None else (progress,)
+    if len(batch) > 1:
+        return compute_chunks(spec, batch, *extra)
+    return [compute_chunk(spec, batch[0], *extra)]
 
 
 def _checked(spec: SweepSpec, key, block) -> np.ndarray:
@@ -187,10 +212,14 @@ def run_sweep(
         with _progress(spec.n_chunks, spec.n_chunks - len(todo), progress) as bar:
             if client is None:
                 for batch in _local_batches(spec, todo):
-                    blocks = compute_chunks(spec, batch) if len(batch) > 1 else None
-                    for k, key in enumerate(batch):
-                        save(key, compute_chunk(spec, key) if blocks is None else blocks[k])
-                        bar.update()
+                    # The bar moves as the batch's set-ups end (a long chunk's too), and
+                    # stands on the chunks saved once the batch is done.
+                    before = bar.n
+                    blocks = _compute(spec, batch, _advance(bar, len(batch)))
+                    for key, block in zip(batch, blocks, strict=True):
+                        save(key, block)
+                    bar.n = before + len(batch)
+                    bar.refresh()
             elif todo:
                 from distributed import as_completed
 
