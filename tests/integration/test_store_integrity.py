@@ -29,11 +29,11 @@ def partial_store(path, monkeypatch, n_done):
     calls = []
     real = runner.compute_chunk
 
-    def counting(spec_, key):
+    def counting(spec_, key, progress=None):
         calls.append(key)
         if len(calls) == n_done + 1 and stop[0]:
             raise KeyboardInterrupt
-        return real(spec_, key)
+        return real(spec_, key, progress)
 
     stop = [True]
     monkeypatch.setattr(runner, "compute_chunk", counting)
@@ -136,8 +136,8 @@ def test_chunk_that_decodes_to_nan_is_recomputed(tmp_path):
 def test_chunk_computed_as_nan_is_an_error_not_a_result(tmp_path, monkeypatch):
     real = runner.compute_chunk
 
-    def broken(spec_, key):
-        block = real(spec_, key)
+    def broken(spec_, key, progress=None):
+        block = real(spec_, key, progress)
         if key == (1, 3):
             block[2, 1] = np.nan
         return block
@@ -191,10 +191,10 @@ def test_finished_chunks_waiting_for_a_slow_disk_are_bounded(tmp_path, monkeypat
     computed, written, waiting = [], [], []
     real_compute, real_write = runner.compute_chunk, SweepStore.write
 
-    def compute(spec_, key):
+    def compute(spec_, key, progress=None):
         computed.append(key)
         waiting.append(len(computed) - len(written))
-        return real_compute(spec_, key)
+        return real_compute(spec_, key, progress)
 
     def slow_write(self, key, block):
         import time

@@ -68,13 +68,13 @@ def test_run_sweep_holds_the_lock_while_it_runs(tmp_path, monkeypatch):
     seen = []
     real = runner.compute_chunk
 
-    def probing(spec_, key):
+    def probing(spec_, key, progress=None):
         try:
             with exclusive_lock(store):
                 seen.append("free")
         except StoreBusyError:
             seen.append("busy")
-        return real(spec_, key)
+        return real(spec_, key, progress)
 
     monkeypatch.setattr(runner, "compute_chunk", probing)
     run_sweep(spec(), store=store)

@@ -31,12 +31,12 @@ def test_interrupted_sweep_resumes_only_missing_chunks(tmp_path, monkeypatch):
     interrupt_at = [4]  # the 4th chunk of the first run is "interrupted" (Ctrl-C)
     real = runner.compute_chunk
 
-    def flaky(spec_, key):
+    def flaky(spec_, key, progress=None):
         calls.append(key)
         if len(calls) == interrupt_at[0]:
             interrupt_at[0] = -1
             raise KeyboardInterrupt
-        return real(spec_, key)
+        return real(spec_, key, progress)
 
     monkeypatch.setattr(runner, "compute_chunk", flaky)
     with pytest.raises(KeyboardInterrupt):

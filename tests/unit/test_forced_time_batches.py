@@ -44,9 +44,9 @@ def test_the_in_process_sweep_batches_forced_time_chunks(monkeypatch):
     sizes = []
     real = runner.compute_chunks
 
-    def recording(spec, keys):
+    def recording(spec, keys, progress=None):
         sizes.append(len(keys))
-        return real(spec, keys)
+        return real(spec, keys, progress)
 
     monkeypatch.setattr(runner, "compute_chunks", recording)
     monkeypatch.setattr(runner, "LOCAL_BATCH", 4)

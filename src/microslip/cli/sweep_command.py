@@ -159,16 +159,14 @@ def cmd_sweep(args: argparse.Namespace) -> int:
         method=method, duration=opts.get("duration", 0.05), dt=opts.get("dt"),
         amplitude_chunk=chunk, backend=opts.get("backend", "cpu"),
     )  # fmt: skip
-    spec.check_budget(allow_large=bool(opts.get("allow_large", False)))
+    seconds = spec.check_budget(allow_large=bool(opts.get("allow_large", False))).seconds
     work_store = out.with_name(out.name + ".partial.zarr")
     quiet = bool(opts.get("quiet", False))
-    if not quiet:
-        seconds = spec.estimate().seconds
-        if seconds >= LONG_RUN_S:
-            _note(
-                f"{spec.n_chunks} chunks, estimated to take about {duration_text(seconds)} "
-                f"here; Ctrl-C keeps the finished chunks in {work_store} for a rerun to resume"
-            )
+    if not quiet and seconds >= LONG_RUN_S:
+        _note(
+            f"{spec.n_chunks} chunks, estimated to take about {duration_text(seconds)} "
+            f"here; Ctrl-C keeps the finished chunks in {work_store} for a rerun to resume"
+        )
     started = time.perf_counter()
     # One run per output at a time: a second one stops here at once (StoreBusyError).
     with exclusive_lock(out), OutputBatch(overwrite=overwrite) as batch:

@@ -46,16 +46,17 @@ def compute_chunk(spec: SweepSpec, key: ChunkKey, progress: Progress | None = No
     normal0 = np.array([initial_state_from_amplitude(params, a)[:2] for a in amplitudes])
     x = _shared_run(
         [spec.model_at(key)] * amplitudes.size, normal0, forces, spec.duration, dt, spec.backend,
-        _per_setup(progress, amplitudes.size),
+        _share(progress, amplitudes.size),
     )  # fmt: skip
     return (x / spec.duration).T
 
 
-def _per_setup(progress: Progress | None, n_setups: int) -> Callable[[int], None] | None:
-    """A kernel's ``on_done`` (set-ups ended) as ``progress`` of a run of ``n_setups``."""
+def _share(progress: Progress | None, parts: int) -> Callable[[float], None] | None:
+    """``progress`` of a whole of ``parts`` equal parts, told of parts done (set-ups as a
+    kernel's ``on_done`` counts them, or one chunk's fraction): None stays None."""
     if progress is None:
         return None
-    return lambda done: progress(done / n_setups)
+    return lambda done: progress(done / parts)
 
 
 def shares_runs(spec: SweepSpec) -> bool:
@@ -72,8 +73,7 @@ def compute_chunks(
     over the cores (a set-up's lanes depend on nothing else in the run). ``progress``
     hears of the fraction of all the keys' work done."""
     if not shares_runs(spec):
-        share = None if progress is None else (lambda done: progress(done / len(keys)))
-        return [compute_chunk(spec, key, share) for key in keys]
+        return [compute_chunk(spec, key, _share(progress, len(keys))) for key in keys]
     return _forced_time_chunks(spec, keys, progress)
 
 
@@ -90,7 +90,7 @@ def _forced_time_chunks(
         normal0 = np.array([[models[k].params.static_deflection, 0.0] for k in picked])
         x = _shared_run(
             [models[k] for k in picked], normal0, spec.forces, spec.duration, dt, spec.backend,
-            _per_setup(progress, len(keys)),
+            _share(progress, len(keys)),
         )  # fmt: skip
         for row, k in enumerate(picked):
             blocks[k] = (x[row] / spec.duration)[:, None]

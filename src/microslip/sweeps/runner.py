@@ -106,15 +106,6 @@ def _advance(bar, chunks: int):
     return progress
 
 
-def _compute(spec: SweepSpec, batch: list, progress) -> list[np.ndarray]:
-    """The blocks of a batch of chunks (:func:`_local_batches`), the kernels reporting to
-    ``progress`` where there is one (a shown bar)."""
-    extra = () if progress is None else (progress,)
-    if len(batch) > 1:
-        return compute_chunks(spec, batch, *extra)
-    return [compute_chunk(spec, batch[0], *extra)]
-
-
 def _checked(spec: SweepSpec, key, block) -> np.ndarray:
     """``block`` as the chunk's float64 array; RuntimeError if it has the wrong shape or NaN."""
     block = np.asarray(block)
@@ -215,7 +206,11 @@ def run_sweep(
                     # The bar moves as the batch's set-ups end (a long chunk's too), and
                     # stands on the chunks saved once the batch is done.
                     before = bar.n
-                    blocks = _compute(spec, batch, _advance(bar, len(batch)))
+                    progress = _advance(bar, len(batch))
+                    if len(batch) > 1:
+                        blocks = compute_chunks(spec, batch, progress)
+                    else:
+                        blocks = [compute_chunk(spec, batch[0], progress)]
                     for key, block in zip(batch, blocks, strict=True):
                         save(key, block)
                     bar.n = before + len(batch)

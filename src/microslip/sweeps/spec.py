@@ -297,11 +297,14 @@ class SweepSpec:
             self.duration, self.dt, self.amplitude_chunk, self.forces, self.amplitudes,
         )  # fmt: skip
 
-    def check_budget(self, *, allow_large: bool = False) -> None:
+    def check_budget(self, *, allow_large: bool = False) -> budget.Estimate:
         """Refuse (:class:`microslip.budget.WorkLimitError`) a sweep whose estimated run
         time exceeds 10 minutes or whose memory exceeds half the available memory,
-        unless ``allow_large``. Called by :func:`microslip.sweep` and the CLI."""
-        budget.check(self.estimate(), allow_large=allow_large)
+        unless ``allow_large``; returns the estimate checked. Called by
+        :func:`microslip.sweep` and the CLI."""
+        estimate = self.estimate()
+        budget.check(estimate, allow_large=allow_large)
+        return estimate
 
     # -- geometry ---------------------------------------------------------------------
     @property
