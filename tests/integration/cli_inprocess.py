@@ -11,3 +11,12 @@ def run(capsys, *args):
     status = main([str(a) for a in args])
     out, err = capsys.readouterr()
     return status, out, err
+
+
+def one_line_failure(status, err, *words):
+    """A refusal: exit status 2, one line on stderr (no traceback) holding ``words``."""
+    assert status == 2, err
+    assert len(err.strip().splitlines()) == 1, err
+    assert "Traceback" not in err
+    for word in words:
+        assert word in err, (word, err)

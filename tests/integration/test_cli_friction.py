@@ -21,7 +21,7 @@ import math
 import numpy as np
 import pytest
 import xarray as xr
-from cli_inprocess import run
+from cli_inprocess import one_line_failure, run
 from scipy.integrate import quad
 from scipy.optimize import brentq
 
@@ -61,14 +61,6 @@ def reduction(v_tilde: float) -> float:
 
 def velocity_of(v_tilde: float, beta: float) -> float:
     return v_tilde * MU * N0 * beta * OMEGA / K_T
-
-
-def one_line_failure(status, err, *words):
-    assert status == 2, err
-    assert len(err.strip().splitlines()) == 1, err
-    assert "Traceback" not in err
-    for word in words:
-        assert word in err, (word, err)
 
 
 def test_reduction_of_the_test_itself():

@@ -8,7 +8,7 @@ import json
 import numpy as np
 import pytest
 import xarray as xr
-from cli_inprocess import run
+from cli_inprocess import one_line_failure, run
 
 import microslip as ms
 
@@ -18,14 +18,6 @@ FORCED = [
     "--excitation", "harmonic-force", "--excitation-amplitude", "0.5",
     "--excitation-frequency", "1400",
 ]  # fmt: skip
-
-
-def one_line_failure(status, err, *words):
-    assert status == 2, err
-    assert len(err.strip().splitlines()) == 1, err
-    assert "Traceback" not in err
-    for word in words:
-        assert word in err, (word, err)
 
 
 def test_simulate_with_parts_writes_them_and_the_normal_force(capsys, tmp_path):

@@ -8,7 +8,7 @@ import math
 import numpy as np
 import pytest
 import xarray as xr
-from cli_inprocess import run
+from cli_inprocess import one_line_failure, run
 
 import microslip as ms
 from microslip.cli.main import main
@@ -23,14 +23,6 @@ DAMPED_FORCE = [
 # P0 = 1 N, ζ = 0.03: the curve leans over between 0.85 f0 and 0.95 f0 (two folds), with
 # contact lost near the top of the upper branch.
 FOLDED = ["--frequencies", "1200:1600"]
-
-
-def one_line_failure(status, err, *words):
-    assert status == 2, err
-    assert len(err.strip().splitlines()) == 1, err
-    assert "Traceback" not in err
-    for word in words:
-        assert word in err, (word, err)
 
 
 def fold_markers(fig) -> int:

@@ -15,7 +15,7 @@ import json
 import numpy as np
 import pytest
 import xarray as xr
-from cli_inprocess import run
+from cli_inprocess import one_line_failure, run
 
 import microslip as ms
 
@@ -24,14 +24,6 @@ RUN = ["--amplitude", "1e-7", "--duration", "0.006"]
 COMPLIANT = ["--tangential", "spring", "--tangential-stiffness", "1e6"]
 STATIC_KINETIC = ["--friction", "static-kinetic", "--friction-mu-static", "0.2",
                   "--friction-mu-kinetic", "0.12"]  # fmt: skip
-
-
-def one_line_failure(status, err, *words):
-    assert status == 2, err
-    assert len(err.strip().splitlines()) == 1, err
-    assert "Traceback" not in err
-    for word in words:
-        assert word in err, (word, err)
 
 
 def simulate(capsys, tmp_path, *flags, name="run.nc"):

@@ -7,6 +7,7 @@ import matplotlib.image
 import numpy as np
 import pytest
 import xarray as xr
+from figure_lines import curves
 from scipy.optimize import brentq
 
 import microslip as ms
@@ -71,15 +72,6 @@ def lowest_point(params: ms.Parameters, amplitude: float) -> float:
 
     y0 = params.static_deflection
     return brentq(work, y0, 10 * y0, xtol=1e-15 * y0, rtol=1e-14)
-
-
-def curves(ax, text: str = "") -> list:
-    """The data lines of an axes (not the reference lines), those labelled with ``text``."""
-    return [
-        line
-        for line in ax.get_lines()
-        if np.size(line.get_xdata()) > 2 and text in str(line.get_label())
-    ]
 
 
 # -- files ------------------------------------------------------------------------------

@@ -14,6 +14,7 @@ import re
 import numpy as np
 import pytest
 import xarray as xr
+from figure_lines import curves
 from scipy.optimize import brentq
 
 import microslip as ms
@@ -37,14 +38,6 @@ def si_per_unit(label: str) -> float:
     match = re.search(r"\[(f|p|n|µ|m|k|)(m|s|N)(/s(\$\^2\$)?)?\]", label)
     assert match, f"no unit in {label!r}"
     return PREFIX[match.group(1)]
-
-
-def curves(ax, text: str = "") -> list:
-    return [
-        line
-        for line in ax.get_lines()
-        if np.size(line.get_xdata()) > 2 and text in str(line.get_label())
-    ]
 
 
 def lowest_point(params: ms.Parameters, amplitude: float) -> float:
