@@ -245,6 +245,14 @@ SIMULATED = textwrap.dedent(
     on_gpu = ms.sweep(mindlin, None, force=[0.3, 0.9], amplitude=[1e-7, 4e-7], **options,
                       backend="cuda")
     assert np.array_equal(on_cpu.values, on_gpu.values) and np.abs(on_cpu.values).max() > 0
+    # StaticKinetic friction: each lane sticks up to μ_s N and slides against μ_k N,
+    # through flights (A = 4e-7 m > y0) and a runaway between μ_k m g and μ_s m g.
+    for tangential in (None, spring.tangential, mindlin.tangential):
+        static = ms.Model(tangential=tangential, friction=ms.StaticKinetic(0.15, 0.1))
+        grid = dict(force=[0.3, 1.2], amplitude=[0.2e-7, 4e-7], **options)
+        on_cpu = ms.sweep(static, None, **grid)
+        on_gpu = ms.sweep(static, None, **grid, backend="cuda")
+        assert np.array_equal(on_cpu.values, on_gpu.values) and np.abs(on_cpu.values).max() > 0
     # A Hertz contact: the set-up in flight runs on the batched kernel on both.
     hertz = mindlin.replace(m2=1.5)
     y0 = hertz.params.static_deflection

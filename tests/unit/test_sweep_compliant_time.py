@@ -69,12 +69,16 @@ def test_steady_refuses_a_compliant_contact_and_names_the_time_method():
 
 
 @pytest.mark.parametrize(
-    "part",
-    [ms.StaticKinetic(0.15, 0.1), ms.SpringDrive(stiffness=1e6, velocity=1e-3)],
+    ("tangential", "part"),
+    [(None, ms.Stribeck(0.15, 0.1, velocity=1e-3)),
+     (ms.TangentialSpring(K_N), ms.SpringDrive(stiffness=1e6, velocity=1e-3))],
     ids=["friction", "drive"],
-)
-def test_time_keeps_refusing_other_friction_laws_and_drives(part):
-    model = ms.Model(P, tangential=ms.TangentialSpring(K_N), **{part.slot: part})
+)  # fmt: skip
+def test_time_keeps_refusing_other_friction_laws_and_drives(tangential, part):
+    """StaticKinetic friction runs (tests/unit/test_sweep_static_kinetic.py); Stribeck
+    (velocity-dependent μ: no closed form on a piece) and drives other than the sweep's
+    constant forces are refused."""
+    model = ms.Model(P, tangential=tangential, **{part.slot: part})
     with pytest.raises(ms.UnsupportedModelError, match=f"{part.slot}={type(part).__name__}"):
         sweep(model, None, force=[0.5], amplitude=[1e-7], method="time", duration=DURATION)
 

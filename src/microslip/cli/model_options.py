@@ -361,10 +361,14 @@ def require_paper_tangential(
     the part came from (:func:`microslip.model.capabilities.require`)."""
     from microslip.model.capabilities import TANGENTIAL_SLOTS, UnsupportedModelError, require
 
+    allowed = dict(allowed or {})
     try:
-        require(model, f"microslip {command}", allowed=dict(allowed or {}), instead=instead)
+        require(model, f"microslip {command}", allowed=allowed, instead=instead)
     except UnsupportedModelError as error:
-        where = next(
-            (parts[s].kind_origin for s in TANGENTIAL_SLOTS if not model.paper_choice(s)), None
-        )
+        # The flag of the first refused part (one of the allowed ones may come first).
+        refused = (
+            s for s in TANGENTIAL_SLOTS
+            if not model.paper_choice(s) and type(getattr(model, s)) not in allowed.get(s, ())
+        )  # fmt: skip
+        where = next((parts[s].kind_origin for s in refused), None)
         raise CliError(f"{where}: {error}" if where else str(error)) from None

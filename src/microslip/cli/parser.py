@@ -172,7 +172,8 @@ def _add_sweeps(sub) -> None:
         p.add_argument("--plot", help="draw the map (.png/.pdf/.svg)")
         p.add_argument(
             "--method", choices=("steady", "time"),
-            help="steady (default) or time (also takes --tangential spring or mindlin)",
+            help="steady (default) or time (also takes --tangential spring or mindlin and "
+            "--friction static-kinetic)",
         )  # fmt: skip
         p.add_argument("--duration", type=finite, help="time method: span [s]")
         p.add_argument("--dt", type=finite, help="time method: RK4 step [s]")

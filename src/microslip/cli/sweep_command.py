@@ -25,8 +25,9 @@ LONG_RUN_S = 60.0
 #: Why map and sweep refuse a tangential part other than the paper's.
 SWEEP_INSTEAD = (
     "map and sweep compute the mean velocity under the constant forces of --force with "
-    "Coulomb friction, on a rigid contact (the paper's Sec. 4) or, with --method time, a "
-    "compliant one (--tangential spring or mindlin): leave out --friction and --drive, or "
+    "Coulomb friction, on a rigid contact (the paper's Sec. 4) or, with --method time, "
+    "also a compliant one (--tangential spring or mindlin) and --friction static-kinetic: "
+    "leave out --drive (and --friction stribeck), or "
     "use `microslip simulate` (any tangential part) or `microslip friction` (effective "
     "friction under a prescribed velocity)"
 )
@@ -82,7 +83,7 @@ def cmd_sweep(args: argparse.Namespace) -> int:
     )
     from microslip.io.ranges import parse_values
     from microslip.sweeps import SweepSpec, run_sweep
-    from microslip.sweeps.kernel_choice import TIME_TANGENTIAL
+    from microslip.sweeps.kernel_choice import allowed_parts
     from microslip.sweeps.store import exclusive_lock, remove_store
 
     opts = gather(args, args.command)
@@ -96,7 +97,7 @@ def cmd_sweep(args: argparse.Namespace) -> int:
     method = _check_method(opts, ("steady", "time"), "steady")
     require_paper_tangential(
         model, opts.parts, args.command, instead=SWEEP_INSTEAD,
-        allowed={"tangential": TIME_TANGENTIAL} if method == "time" else {},
+        allowed=allowed_parts(method),
     )  # fmt: skip
     forced = model.excitation is not None
     if forced and args.command == "map":

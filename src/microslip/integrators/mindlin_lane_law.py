@@ -223,9 +223,8 @@ def lane_piece(a, piece, force, fm, km, mu_s, mu_k, x, v, f, mode):
     switches = 0
     for _ in range(MAX_SWITCHES_PER_STEP):
         if abs(mode) == FLIGHT:
-            if tau == 0.0:  # landing at the piece start, k_t(0) ~ 0 at δ = 0
-                k_0 = max(piece[M_K], 0.0)
-                mode, f = touchdown(a, h, k_0, mass, piece[M_GRAVITY], mu_s, mu_k, v)
+            if tau == 0.0:  # landing at the piece start: R(0) = Ṅ/k_t there
+                mode, f = touchdown(a, piece[M_R], mass, piece[M_GRAVITY], mu_s, mu_k, v)
                 switches += 1
                 continue
             d = 1.0 - tau

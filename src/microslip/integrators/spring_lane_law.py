@@ -192,14 +192,17 @@ def _stick_at(tau_a, x, v, f, force, omega, k_t, mass, theta, tau):
 
 
 @njit(cache=True, inline="always")
-def touchdown(a, h, k_t, mass, gravity, mu_s, mu_k, v):
+def touchdown(a, rate_ratio, mass, gravity, mu_s, mu_k, v):
     """(mode, f [N]) of a lane landing with a relaxed spring at the start of the piece:
     stick, unless the touchdown grazes (μ_s N <= GRAZING m g) with ẋ != 0 and the spring
-    loads faster than the limit rises (μ_s dN/dt < k_t |ẋ|): slip with ẋ on f = μ_k N."""
+    loads faster than the limit rises, μ_s dN/dt < k_t |ẋ|, i.e. μ_s R < |ẋ| with
+    ``rate_ratio`` R = (dN/dt)/k_t [m/s] at the touchdown: slip with ẋ on f = μ_k N.
+    The ratio, not the rates: on a Mindlin spring both vanish at δ = 0 for m2 > 1, and
+    R = δ̇/λ (elastic law) decides (docs/theory/friction_reduction.md)."""
     limit = mu_s * a[0]
     if limit > GRAZING * mass * gravity or v == 0.0:
         return 0.0, 0.0
-    if mu_s * a[1] / h >= k_t * abs(v):
+    if mu_s * rate_ratio >= abs(v):
         return 0.0, 0.0
     direction = sign(v)
     return direction, direction * mu_k * a[0]
@@ -238,7 +241,7 @@ def lane_piece(a, piece, force, fm, km, mu_s, mu_k, x, v, f, mode):
     for _ in range(MAX_SWITCHES_PER_STEP):
         if abs(mode) == FLIGHT:
             if tau == 0.0:  # landing at the piece start
-                mode, f = touchdown(a, h, k_t, mass, piece[P_GRAVITY], mu_s, mu_k, v)
+                mode, f = touchdown(a, a[1] / (h * k_t), mass, piece[P_GRAVITY], mu_s, mu_k, v)
                 switches += 1
                 continue
             # Lifted off inside the piece (N reached 0 at a switch): fly to its end.

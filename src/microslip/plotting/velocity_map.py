@@ -54,17 +54,35 @@ def _velocity_levels(values: np.ndarray) -> np.ndarray:
     return MaxNLocator(nbins=20).tick_values(0.0, top)
 
 
-def _map_panel(ax, v: xr.DataArray, params: Parameters, levels: np.ndarray, units: tuple):
+def _map_friction(ds: xr.Dataset, params: Parameters) -> tuple[float, float]:
+    """(μ_s, μ_k) [-] of a map: a StaticKinetic law's, as its result records them (a
+    scalar coordinate where the field was swept, else the attributes), or ``params.mu``
+    for both (Coulomb)."""
+    if ds.attrs.get("friction") != "StaticKinetic":
+        return params.mu, params.mu
+    found = []
+    for field in ("mu_static", "mu_kinetic"):
+        name = f"friction.{field}"
+        value = ds[name].values if name in ds.coords else ds.attrs[f"friction_{field}"]
+        found.append(float(value))
+    return found[0], found[1]
+
+
+def _map_panel(ax, v: xr.DataArray, params: Parameters, levels: np.ndarray, units: tuple,
+               mu: tuple[float, float]):  # fmt: skip
     """Filled contours of v(F, A) with the analytic no-sliding boundary
-    F = μ S c_n max(y0 - A, 0)^m2, the contact-loss line A = y0 and F >= μ m g hatched,
-    in ``units`` (F, A, v; see :func:`_map_units`). Returns the contour set (for a colorbar)."""
+    F = μ_s S c_n max(y0 - A, 0)^m2, the contact-loss line A = y0 and F >= μ_k m g
+    hatched, in ``units`` (F, A, v; see :func:`_map_units`); ``mu`` = (μ_s, μ_k) [-].
+    Returns the contour set (for a colorbar)."""
     f_unit, a_unit, v_unit = units
+    mu_static, mu_kinetic = mu
     amplitudes = v["amplitude"].values
     forces = v["force"].values * f_unit.factor
     amps = amplitudes * a_unit.factor
     filled = ax.contourf(forces, amps, _map_values(v, v_unit), levels=levels, cmap="viridis")
     amp_line = np.linspace(amplitudes.min(), amplitudes.max(), 400)
-    boundary = [params.motion_threshold(a) * f_unit.factor for a in amp_line]
+    static = params.replace(mu=mu_static)
+    boundary = [static.motion_threshold(a) * f_unit.factor for a in amp_line]
     ax.plot(
         boundary, amp_line * a_unit.factor, color="white", lw=2.0,
         label="no-sliding boundary (analytic)",
@@ -73,7 +91,10 @@ def _map_panel(ax, v: xr.DataArray, params: Parameters, levels: np.ndarray, unit
         params.static_deflection * a_unit.factor, color="tab:red", lw=1.5, ls="--",
         label="A = y0 (loss of contact above)",
     )  # fmt: skip
-    _mark_no_steady_state(ax, params, v["force"].values, f_unit.factor)
+    _mark_no_steady_state(
+        ax, params.replace(mu=mu_kinetic), v["force"].values, f_unit.factor,
+        "μ" if mu_static == mu_kinetic else "μ_k",
+    )  # fmt: skip
     ax.set_xlim(forces.min(), forces.max())
     ax.set_ylim(amps.min(), amps.max())
     return filled
@@ -81,7 +102,8 @@ def _map_panel(ax, v: xr.DataArray, params: Parameters, levels: np.ndarray, unit
 
 def velocity_map_figure(ds: xr.Dataset, params: Parameters | None = None) -> Figure:
     """(a) surface v(F, A) as in the paper; (b) filled contours with the analytic
-    no-sliding boundary F = μ S c_n max(y0 - A, 0)^m2 and the contact-loss line A = y0."""
+    no-sliding boundary F = μ S c_n max(y0 - A, 0)^m2 (μ_s for StaticKinetic friction:
+    :func:`_map_friction`) and the contact-loss line A = y0."""
     params = Parameters() if params is None else params
     v = ds["mean_velocity"]
     if set(v.dims) != {"force", "amplitude"}:
@@ -101,14 +123,20 @@ def velocity_map_figure(ds: xr.Dataset, params: Parameters | None = None) -> Fig
     ax3.set_title("(a) mean sliding velocity v(F, A)")
 
     ax = fig.add_subplot(1, 2, 2)
-    filled = _map_panel(ax, v, params, _velocity_levels(values), units)
+    mu_static, mu_kinetic = _map_friction(ds, params)
+    filled = _map_panel(ax, v, params, _velocity_levels(values), units, (mu_static, mu_kinetic))
     fig.colorbar(filled, ax=ax, label=v_unit.label("v"))
     ax.set_xlabel(f_unit.label("tangential force F"))
     ax.set_ylabel(a_unit.label("vibration amplitude A"))
-    ax.set_title(
-        f"(b) v(F, A); μ = {params.mu:.3g}, "
-        f"F_t0 = μ m g = {params.static_friction_force * f_unit.factor:.3g} {f_unit.symbol}"
-    )
+    mg = params.mass * params.g * f_unit.factor
+    if mu_static == mu_kinetic:
+        friction = f"μ = {mu_kinetic:.3g}, F_t0 = μ m g = {mu_kinetic * mg:.3g} {f_unit.symbol}"
+    else:
+        friction = (
+            f"μ_s = {mu_static:.3g}, μ_k = {mu_kinetic:.3g}, "
+            f"μ_k m g = {mu_kinetic * mg:.3g} {f_unit.symbol}"
+        )
+    ax.set_title(f"(b) v(F, A); {friction}")
     y0_plot = params.static_deflection * a_unit.factor
     ax.text(0.05 * forces.max() + 0.95 * forces.min(), 0.08 * y0_plot, "no sliding", color="white")
     ax.legend(loc="upper right", fontsize=8, framealpha=0.8)
@@ -155,8 +183,12 @@ def _curve_axis(varying: list[str]) -> str:
 
 
 def _params_at(ds: xr.Dataset, base: Parameters, selection: Mapping[str, int]) -> Parameters:
-    """``base`` with the swept fields set to their values at ``selection`` (indices)."""
-    return base.replace(**{name: float(ds[name].values[i]) for name, i in selection.items()})
+    """``base`` with the swept Parameters fields set to their values at ``selection``
+    (indices); a swept part field ("damping.ratio") is the part's, not a parameter."""
+    fields = set(Parameters.field_names())
+    return base.replace(
+        **{name: float(ds[name].values[i]) for name, i in selection.items() if name in fields}
+    )
 
 
 def _value_text(ds: xr.Dataset, name: str, index: int) -> str:
@@ -166,14 +198,15 @@ def _value_text(ds: xr.Dataset, name: str, index: int) -> str:
     return text if unit in ("", "1") else f"{text} {unit}"
 
 
-def _mark_no_steady_state(ax, params: Parameters, forces: np.ndarray, factor: float = 1.0) -> None:
-    """Hatch F >= μ m g, where the slider accelerates for ever (no mean velocity);
-    ``forces`` [N], plotted times ``factor``."""
+def _mark_no_steady_state(ax, params: Parameters, forces: np.ndarray, factor: float = 1.0,
+                          mu_name: str = "μ") -> None:  # fmt: skip
+    """Hatch F >= μ m g (``params.mu``, named ``mu_name`` in the legend), where the slider
+    accelerates for ever (no mean velocity); ``forces`` [N], plotted times ``factor``."""
     limit = params.static_friction_force
     if limit < forces.max():
         ax.axvspan(max(limit, forces.min()) * factor, forces.max() * factor, facecolor="none",
                    hatch="//", edgecolor="0.6", linewidth=0.0,
-                   label="F ≥ μ m g: no steady state")  # fmt: skip
+                   label=f"F ≥ {mu_name} m g: no steady state")  # fmt: skip
         ax.axvline(limit * factor, color="0.3", lw=1.0, ls=":")
 
 
@@ -205,9 +238,11 @@ def _panels_figure(ds: xr.Dataset, params: Parameters) -> Figure:
             if len(swept) == 2:
                 selection[swept[1]] = row
             ax = axes[row, col]
+            at = _params_at(ds, params, selection)
             filled = _map_panel(
-                ax, v.isel(selection), _params_at(ds, params, selection), levels, units
-            )
+                ax, v.isel(selection), at, levels, units,
+                _map_friction(ds.isel(selection), at),
+            )  # fmt: skip
             ax.set_title(", ".join(_value_text(ds, d, selection[d]) for d in swept), fontsize=9)
             if row == n_rows - 1:
                 ax.set_xlabel(f_unit.label("F"))
@@ -215,8 +250,8 @@ def _panels_figure(ds: xr.Dataset, params: Parameters) -> Figure:
                 ax.set_ylabel(a_unit.label("A"))
     fig.colorbar(filled, ax=axes, label=v_unit.label("v"))
     fig.suptitle(
-        "mean sliding velocity v(F, A); white: no-sliding boundary; red dashed: A = y0; "
-        "hatched: F ≥ μ m g (no steady state)",
+        "mean sliding velocity v(F, A)\nwhite: no-sliding boundary; red dashed: A = y0; "
+        "hatched: F ≥ μ m g (μ_k m g), no steady state",
         fontsize=10,
     )
     return fig

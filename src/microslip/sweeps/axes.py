@@ -117,6 +117,15 @@ def _part_grid(model: Model, param_axes, name: str, shape: tuple[int, ...]) -> n
     return _on_grid(name, getattr(getattr(model, slot), field), param_axes, shape)
 
 
+def kinetic_mu_grid(model: Model, param_axes) -> np.ndarray:
+    """The kinetic friction coefficient μ_k [-] of every parameter set: the friction
+    law's own (StaticKinetic) or ``mu`` (Coulomb)."""
+    shape = tuple(len(values) for _, values in param_axes)
+    if model.friction is not None and model.friction.owns_mu:
+        return _part_grid(model, param_axes, "friction.mu_kinetic", shape)
+    return field_grid(model.params, param_axes)["mu"]
+
+
 def log_step_period(model: Model, param_axes) -> np.ndarray:
     """log10 of the period [s] a time step must resolve, per parameter set: the shortest
     of T0, the excitation period and the body's tangential oscillation on a compliant

@@ -7,7 +7,7 @@ from collections.abc import Callable
 import numpy as np
 
 from microslip.analysis.steady_state import ORBIT_STEPS, mean_velocity_grid
-from microslip.model.coefficients import FORCE, pack
+from microslip.model.coefficients import FORCE, MU, MU_STATIC, pack
 from microslip.simulation import DEFAULT_RK4_STEPS_PER_PERIOD, initial_state_from_amplitude
 from microslip.sweeps.kernel_choice import repeats_from_rest, time_kernel
 from microslip.sweeps.spec import ChunkKey, SweepSpec
@@ -196,34 +196,37 @@ def _shared_run(models, normal0, forces, duration, dt, backend="cpu", on_done=No
         x = _mindlin_run(models, coeffs, normal0, forces, duration, dt, periods, backend,
                          on_done)  # fmt: skip
         return x.reshape(n_setups, forces.size)
-    groups, lane_forces, mu = _lane_arrays(models, forces)
+    groups, lane_forces, mu_s, mu_k = _lane_arrays(models, forces)
     if models[0].is_compliant:
         stiffness = [model.tangential.stiffness for model in models]
         if backend == "cuda":
             from microslip.integrators.spring_lanes_cuda import run_spring_lanes_cuda
 
-            x = run_spring_lanes_cuda(coeffs, normal0, stiffness, groups, lane_forces, mu, mu,
-                                      duration, dt, periods=periods)[0]  # fmt: skip
+            x = run_spring_lanes_cuda(coeffs, normal0, stiffness, groups, lane_forces, mu_s,
+                                      mu_k, duration, dt, periods=periods)[0]  # fmt: skip
         else:
-            x = run_spring_lanes(coeffs, normal0, stiffness, groups, lane_forces, mu, mu,
+            x = run_spring_lanes(coeffs, normal0, stiffness, groups, lane_forces, mu_s, mu_k,
                                  duration, dt, periods=periods, on_done=on_done)[0]  # fmt: skip
     elif backend == "cuda":
         from microslip.integrators.shared_lanes_cuda import run_shared_cuda
 
-        x = run_shared_cuda(coeffs, normal0, groups, lane_forces, mu, mu, duration, dt,
+        x = run_shared_cuda(coeffs, normal0, groups, lane_forces, mu_s, mu_k, duration, dt,
                             periods=periods)[0]  # fmt: skip
     else:
-        x = run_shared(coeffs, normal0, groups, lane_forces, mu, mu, duration, dt,
+        x = run_shared(coeffs, normal0, groups, lane_forces, mu_s, mu_k, duration, dt,
                        periods=periods, on_done=on_done)[0]  # fmt: skip
     return x.reshape(n_setups, forces.size)
 
 
 def _lane_arrays(models, forces):
-    """(set-up, force [N], μ [-]) of every lane of :func:`_shared_run`: each model's
-    set-up under every force, set-up-major."""
+    """(set-up, force [N], μ_s [-], μ_k [-]) of every lane of :func:`_shared_run`: each
+    model's set-up under every force, set-up-major. The coefficients are those the
+    model's friction law packs (Coulomb: μ for both; StaticKinetic: its own)."""
     groups = np.repeat(np.arange(len(models)), forces.size)
-    mu = np.repeat([model.params.mu for model in models], forces.size)
-    return groups, np.tile(forces, len(models)), mu
+    packed = np.array([model.pack(0.0)[[MU_STATIC, MU]] for model in models])
+    mu_static = np.repeat(packed[:, 0], forces.size)
+    mu_kinetic = np.repeat(packed[:, 1], forces.size)
+    return groups, np.tile(forces, len(models)), mu_static, mu_kinetic
 
 
 def _mindlin_run(models, coeffs, normal0, forces, duration, dt, periods, backend, on_done=None):
@@ -252,9 +255,9 @@ def _mindlin_run(models, coeffs, normal0, forces, duration, dt, periods, backend
     def lanes(setups):
         picked = [models[g] for g in setups]
         ratio = [model.tangential.ratio for model in picked]
-        groups, lane_forces, mu = _lane_arrays(picked, forces)
-        x = run(coeffs[setups], normal0[setups], ratio, groups, lane_forces, mu, mu, duration,
-                dt, periods=periods[setups])[0]  # fmt: skip
+        groups, lane_forces, mu_s, mu_k = _lane_arrays(picked, forces)
+        x = run(coeffs[setups], normal0[setups], ratio, groups, lane_forces, mu_s, mu_k,
+                duration, dt, periods=periods[setups])[0]  # fmt: skip
         return x.reshape(setups.size, forces.size)
 
     everything = np.arange(len(models))

@@ -14,17 +14,20 @@ from microslip import validation as check
 from microslip.analysis.steady_state import TANGENTIAL_INSTEAD
 from microslip.integrators.mindlin_lanes import supports_exponent
 from microslip.model.composition import Model
+from microslip.model.friction import StaticKinetic
 from microslip.model.parameters import Parameters
 from microslip.model.tangential import MindlinSpring, TangentialSpring
 from microslip.sweeps import cost
-from microslip.sweeps.axes import field_grid, grid_logs, log_step_period
+from microslip.sweeps.axes import field_grid, grid_logs, kinetic_mu_grid, log_step_period
 from microslip.validation import DEFAULT_RK4_STEPS_PER_PERIOD
 
 __all__ = [
     "BACKENDS",
     "CUDA_CHUNK_LANES",
     "SWEEP_INSTEAD",
+    "TIME_FRICTION",
     "TIME_TANGENTIAL",
+    "allowed_parts",
     "checked_backend",
     "estimate_work",
     "rough_exponents",
@@ -36,10 +39,23 @@ BACKENDS = ("cpu", "cuda")  # where the shared-normal time kernel runs
 CUDA_CHUNK_LANES = 2**18  # default lanes per chunk on a GPU (it needs many to be busy)
 # The tangential contacts of a time sweep.
 TIME_TANGENTIAL = (None, TangentialSpring, MindlinSpring)
+# The friction laws of a time sweep: every lane kernel takes a static and a kinetic
+# coefficient (stick up to μ_s N, slip against μ_k N).
+TIME_FRICTION = (None, StaticKinetic)
 SWEEP_INSTEAD = (
     f"{TANGENTIAL_INSTEAD}; method='time' also takes a compliant tangential contact "
-    "(TangentialSpring, MindlinSpring)"
+    "(TangentialSpring, MindlinSpring) and StaticKinetic friction"
 )
+
+
+def allowed_parts(method: str) -> dict[str, tuple[type | None, ...]]:
+    """The tangential part types a sweep of ``method`` takes beyond the paper's, for
+    :func:`microslip.model.capabilities.require`: with "time" a compliant contact
+    (:data:`TIME_TANGENTIAL`) and StaticKinetic friction (:data:`TIME_FRICTION`); with
+    "steady" none (its reflected process needs a rigid contact and Coulomb friction)."""
+    if method == "time":
+        return {"tangential": TIME_TANGENTIAL, "friction": TIME_FRICTION}
+    return {}
 
 
 def time_kernel(model: Model) -> str:
@@ -222,7 +238,8 @@ def repeated_tape_work(model: Model, param_axes, forces, amplitudes, duration: f
     periods = duration / longest
     if periods < 2.0:
         return none
-    limit = float(np.min(grid["mu"] * grid["mass"] * grid["g"]))  # the smallest μ m g [N]
+    # The smallest μ_k m g [N]: a lane past it, once sliding, never stops.
+    limit = float(np.min(kinetic_mu_grid(model, param_axes) * grid["mass"] * grid["g"]))
     tape, lane = parking_fractions(np.asarray(forces, dtype=float), limit, periods)
     return tape, lane, amplitudes.size * int(exponents.size)
 

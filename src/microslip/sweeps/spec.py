@@ -35,7 +35,7 @@ from microslip.sweeps.axes import (
 from microslip.sweeps.kernel_choice import (
     CUDA_CHUNK_LANES,
     SWEEP_INSTEAD,
-    TIME_TANGENTIAL,
+    allowed_parts,
     checked_backend,
     estimate_work,
 )
@@ -123,8 +123,7 @@ class SweepSpec:
         """
         model = as_model(model_or_params)
         method = check.one_of("method", method, METHODS)
-        allowed = {"tangential": TIME_TANGENTIAL} if method == "time" else {}
-        require(model, "sweep", allowed=allowed, instead=SWEEP_INSTEAD)
+        require(model, "sweep", allowed=allowed_parts(method), instead=SWEEP_INSTEAD)
         params = model.params
         forced = model.excitation is not None
         if forced and amplitudes is not None:
