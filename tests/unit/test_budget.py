@@ -286,3 +286,23 @@ def test_the_estimate_counts_the_threads_the_kernels_run_on():
                             method="time", duration=1.0).estimate().seconds  # fmt: skip
     if cost.batch_threads() > 1:
         assert one > every
+
+
+def test_the_estimate_counts_the_copies_of_few_set_ups(monkeypatch):
+    """A time chunk of fewer set-ups than threads runs each as copies sharing out its
+    lanes (integrators/setup_copies.py): a one-amplitude map of 1024 forces on 4 threads
+    is estimated at the tape plus a quarter of the lanes per step, not all of them."""
+    from microslip.integrators import threads
+
+    model = ms.Model(P, damping=ms.Viscous(0.01))
+    forces = np.linspace(0.05, 0.95, 1024)
+    seconds = {}
+    for count in (1, 4):
+        monkeypatch.setattr(threads, "thread_count", lambda count=count: count)
+        monkeypatch.setattr(cost, "batch_threads", lambda count=count: count)
+        spec = SweepSpec.build(model, None, forces, [1e-7], method="time", duration=1.0)
+        seconds[count] = spec.estimate().seconds
+    steps = 1.0 / (P.natural_period / 200.0)
+    tape, lanes = cost.SHARED_S_PER_SETUP_STEP * steps, cost.SHARED_S_PER_LANE_STEP * steps
+    assert seconds[1] == pytest.approx(tape + 1024 * lanes, rel=0.02)
+    assert seconds[4] == pytest.approx(tape + 256 * lanes, rel=0.02)

@@ -59,6 +59,7 @@ from microslip.integrators.spring_lanes import (
     MU_S,
     V,
     X,
+    copied_setups,
     flight_piece,
     fly,
     pack_lanes,
@@ -321,25 +322,27 @@ def run_mindlin_lanes(normal_coeffs, normal_states0, ratio, group_of_lane, force
     outside :func:`supports_exponent` left contact: module doc), with these results,
     complete for the other set-ups, as its ``partial``.
     """
-    normal_coeffs = np.ascontiguousarray(normal_coeffs, dtype=np.float64)
-    states0 = np.asarray(normal_states0, dtype=np.float64)
-    lanes, starts, ratio = pack_lanes(
-        normal_coeffs, ratio, group_of_lane, forces, mu_static, mu_kinetic, what="ratio"
-    )
-    n_groups = normal_coeffs.shape[0]
+    copies, normal_coeffs, states0, ratio, periods, lane_args = copied_setups(
+        normal_coeffs, normal_states0, ratio, periods, group_of_lane, forces, mu_static,
+        mu_kinetic,
+    )  # fmt: skip
+    lanes, starts, ratio = pack_lanes(normal_coeffs, ratio, *lane_args, what="ratio")
     n_lanes = lanes.shape[1]
     switches = np.zeros(n_lanes, dtype=np.int64)
     flagged = np.zeros(n_lanes, dtype=np.int64)
-    status = np.zeros(n_groups, dtype=np.int64)
+    status = np.zeros(copies.n_copies, dtype=np.int64)
     cycles = periodic_tape.cycles(normal_coeffs, states0, periods, t_end, dt)
     stop = threads.stop_flag()
     threads.run_ranges(
-        _run_groups, n_groups, normal_coeffs, states0[:, 0].copy(), states0[:, 1].copy(), ratio,
-        *cycles, starts, lanes, switches, flagged, status, float(t_end), float(dt), stop,
-        per_task=1, stop=stop, on_done=on_done,
+        _run_groups, copies.n_copies, normal_coeffs, states0[:, 0].copy(), states0[:, 1].copy(),
+        ratio, *cycles, starts, lanes, switches, flagged, status, float(t_end), float(dt), stop,
+        per_task=1, stop=stop, on_done=copies.done(on_done),
     )  # fmt: skip
+    status = copies.status(status)
     raise_if_too_coarse(status == STEP_TOO_COARSE, dt)
-    results = lanes[X], lanes[V], lanes[FS], lanes[MODE], switches, flagged
+    results = tuple(
+        copies.unorder(r) for r in (lanes[X], lanes[V], lanes[FS], lanes[MODE], switches, flagged)
+    )
     try:
         raise_on_failure(status, "Mindlin-lane kernel", HANDED_BACK)
     except LaneStalledError as error:

@@ -33,6 +33,7 @@ from microslip.integrators import normal_tape as nt
 from microslip.integrators import periodic_tape, threads
 from microslip.integrators.kernel import as_tuple
 from microslip.integrators.rigid_lane_law import free_piece, lane_piece
+from microslip.integrators.setup_copies import SetupCopies
 from microslip.model.coefficients import MASS
 from microslip.model.normal import normal_force
 
@@ -311,21 +312,27 @@ def run_shared(normal_coeffs, normal_states0, group_of_lane, forces, mu_static, 
     """
     normal_coeffs = np.ascontiguousarray(normal_coeffs, dtype=np.float64)
     normal_states0 = np.asarray(normal_states0, dtype=np.float64)
+    # Few set-ups run as copies that share out their lanes (the same bits).
+    copies = SetupCopies.plan(group_of_lane, normal_coeffs.shape[0])
+    normal_coeffs, normal_states0 = copies.spread(normal_coeffs), copies.spread(normal_states0)
+    if periods is not None:
+        periods = copies.spread(periods)
     lanes, order, starts = pack_lanes(
-        normal_coeffs, group_of_lane, forces, mu_static, mu_kinetic, x0, v0
+        normal_coeffs, copies.lane_copy, forces, mu_static, mu_kinetic, x0, v0
     )
     n_lanes = order.size
     switches = np.zeros(n_lanes, dtype=np.int64)
     flagged = np.zeros(n_lanes, dtype=np.int64)
-    status = np.zeros(normal_coeffs.shape[0], dtype=np.int64)
+    status = np.zeros(copies.n_copies, dtype=np.int64)
     cycles = periodic_tape.cycles(normal_coeffs, normal_states0, periods, t_end, dt)
     stop = threads.stop_flag()
     threads.run_ranges(
-        _run_groups, normal_coeffs.shape[0], normal_coeffs, normal_states0[:, 0].copy(),
+        _run_groups, copies.n_copies, normal_coeffs, normal_states0[:, 0].copy(),
         normal_states0[:, 1].copy(), *cycles, starts, lanes, switches, flagged, status,
-        float(t_end), float(dt), bool(park), stop, per_task=1, stop=stop, on_done=on_done,
+        float(t_end), float(dt), bool(park), stop, per_task=1, stop=stop,
+        on_done=copies.done(on_done),
     )  # fmt: skip
-    raise_on_failure(status, "shared-normal kernel")
+    raise_on_failure(copies.status(status), "shared-normal kernel")
     return unpack_lanes(lanes, order, switches, flagged)
 
 

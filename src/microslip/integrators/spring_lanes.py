@@ -31,6 +31,7 @@ from microslip import _jit_cache  # noqa: F401  (registers the cache before any 
 from microslip.integrators import normal_tape as nt
 from microslip.integrators import periodic_tape, threads
 from microslip.integrators.kernel import as_tuple
+from microslip.integrators.setup_copies import SetupCopies
 from microslip.integrators.shared_lanes import (
     LANE_STALLED,
     OK,
@@ -268,25 +269,51 @@ def run_spring_lanes(normal_coeffs, normal_states0, stiffness, group_of_lane, fo
     (mode 0 stick, ±1 slip, 2 flight); raises RuntimeError if a normal integration or a
     lane fails.
     """
-    normal_coeffs = np.ascontiguousarray(normal_coeffs, dtype=np.float64)
-    states0 = np.asarray(normal_states0, dtype=np.float64)
-    lanes, starts, stiffness = pack_lanes(
-        normal_coeffs, stiffness, group_of_lane, forces, mu_static, mu_kinetic
-    )
-    n_groups = normal_coeffs.shape[0]
+    copies, normal_coeffs, states0, stiffness, periods, lane_args = copied_setups(
+        normal_coeffs, normal_states0, stiffness, periods, group_of_lane, forces, mu_static,
+        mu_kinetic,
+    )  # fmt: skip
+    lanes, starts, stiffness = pack_lanes(normal_coeffs, stiffness, *lane_args)
     n_lanes = lanes.shape[1]
     switches = np.zeros(n_lanes, dtype=np.int64)
     flagged = np.zeros(n_lanes, dtype=np.int64)
-    status = np.zeros(n_groups, dtype=np.int64)
+    status = np.zeros(copies.n_copies, dtype=np.int64)
     cycles = periodic_tape.cycles(normal_coeffs, states0, periods, t_end, dt)
     stop = threads.stop_flag()
     threads.run_ranges(
-        _run_groups, n_groups, normal_coeffs, states0[:, 0].copy(), states0[:, 1].copy(), stiffness,
-        *cycles, starts, lanes, switches, flagged, status, float(t_end), float(dt), stop,
-        per_task=1, stop=stop, on_done=on_done,
+        _run_groups, copies.n_copies, normal_coeffs, states0[:, 0].copy(), states0[:, 1].copy(),
+        stiffness, *cycles, starts, lanes, switches, flagged, status, float(t_end), float(dt),
+        stop, per_task=1, stop=stop, on_done=copies.done(on_done),
     )  # fmt: skip
-    raise_on_failure(status, "spring-lane kernel")
-    return lanes[X], lanes[V], lanes[FS], lanes[MODE], switches, flagged
+    raise_on_failure(copies.status(status), "spring-lane kernel")
+    results = lanes[X], lanes[V], lanes[FS], lanes[MODE], switches, flagged
+    return tuple(copies.unorder(r) for r in results)
+
+
+def copied_setups(normal_coeffs, normal_states0, parameter, periods, group_of_lane, forces,
+                  mu_static, mu_kinetic):  # fmt: skip
+    """(copies, coefficients, initial states, spring parameter, periods, lane arrays) of a
+    spring or Mindlin lane run as :class:`~microslip.integrators.setup_copies.SetupCopies`:
+    the per-set-up arrays one row per copy, the lane arrays (copy, F, μ_s, μ_k) in copy
+    order (:func:`pack_lanes` takes them by set-up); ``copies.unorder`` puts the
+    results back in the caller's lane order."""
+    normal_coeffs = np.ascontiguousarray(normal_coeffs, dtype=np.float64)
+    group_of_lane = np.asarray(group_of_lane, dtype=np.int64)
+    if np.any(np.diff(group_of_lane) < 0):
+        raise ValueError("group_of_lane must be non-decreasing (lanes by set-up)")
+    copies = SetupCopies.plan(group_of_lane, normal_coeffs.shape[0])
+    per_lane = [
+        np.broadcast_to(np.asarray(a, dtype=np.float64), group_of_lane.shape)[copies.order]
+        for a in (forces, mu_static, mu_kinetic)
+    ]
+    return (
+        copies,
+        copies.spread(normal_coeffs),
+        copies.spread(np.asarray(normal_states0, dtype=np.float64)),
+        copies.spread(np.asarray(parameter, dtype=np.float64)),
+        copies.spread(periods),
+        (copies.lane_copy[copies.order], *per_lane),
+    )
 
 
 def pack_lanes(normal_coeffs, stiffness, group_of_lane, forces, mu_static, mu_kinetic,

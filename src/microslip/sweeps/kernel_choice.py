@@ -13,6 +13,7 @@ from microslip import budget
 from microslip import validation as check
 from microslip.analysis.steady_state import TANGENTIAL_INSTEAD
 from microslip.integrators.mindlin_lanes import supports_exponent
+from microslip.integrators.setup_copies import SetupCopies
 from microslip.model.composition import Model
 from microslip.model.friction import StaticKinetic
 from microslip.model.parameters import Parameters
@@ -152,6 +153,13 @@ def estimate_work(
     if method == "time" and kernel == "shared" and forces is not None and amplitudes is not None:
         tape_fraction, lane_fraction, cycles = repeated_tape_work(
             model, param_axes, forces, amplitudes, duration
+        )
+    if method == "time" and model.excitation is None:
+        # A chunk of fewer set-ups than threads runs each as copies sharing out its lanes
+        # (integrators/setup_copies.py). A forced model's chunks (one set-up each) run in
+        # batches, and are left at one copy: an upper bound.
+        lane_fraction /= SetupCopies.copies_for(
+            min(amplitude_chunk, n_amplitudes), n_forces, cost.batch_threads()
         )
     values = n_forces + n_amplitudes + sum(len(v) for _, v in param_axes)
     handed_back = rough_setups(model, param_axes, amplitudes) if method == "time" else 0.0
