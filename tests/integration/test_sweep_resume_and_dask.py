@@ -124,6 +124,26 @@ def test_local_dask_cluster_matches_embedded_run_bit_for_bit():
     assert distributed.identical(embedded)
 
 
+def test_local_workers_share_out_the_kernel_threads(monkeypatch):
+    """Each of N local workers runs its kernels on the threads / N of this process (at
+    least 1), not on every CPU each."""
+    from microslip.integrators import threads
+    from microslip.sweeps.runner import dask_client
+
+    monkeypatch.setattr(threads, "thread_count", lambda: 4)
+
+    def probe():
+        from microslip.integrators.threads import thread_count
+
+        return thread_count()
+
+    with dask_client(None, 2) as client:
+        assert sorted(client.run(probe).values()) == [2, 2]
+    monkeypatch.setattr(threads, "thread_count", lambda: 1)
+    with dask_client(None, 2) as client:
+        assert sorted(client.run(probe).values()) == [1, 1]
+
+
 def test_existing_scheduler_address(tmp_path):
     from distributed import LocalCluster
 

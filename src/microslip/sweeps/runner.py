@@ -75,11 +75,21 @@ def dask_client(scheduler: str | None, workers: int | None) -> Iterator[object |
         return
     with (
         LocalCluster(
-            n_workers=workers, threads_per_worker=1, processes=True, dashboard_address=None
+            n_workers=workers, threads_per_worker=1, processes=True, dashboard_address=None,
+            env={"NUMBA_NUM_THREADS": str(worker_threads(workers))},
         ) as cluster,
         Client(cluster) as client,
-    ):
+    ):  # fmt: skip
         yield client
+
+
+def worker_threads(workers: int) -> int:
+    """Kernel threads of each of ``workers`` local Dask worker processes: this process's
+    (:func:`~microslip.integrators.threads.thread_count`) shared out, at least 1. Each
+    worker's kernels would otherwise start a thread per CPU, ``workers`` times too many."""
+    from microslip.integrators.threads import thread_count
+
+    return max(1, thread_count() // max(1, int(workers)))
 
 
 def _progress(total: int, initial: int, show: bool):
