@@ -85,10 +85,18 @@ from microslip.integrators.tape_row import (  # noqa: F401  (re-exported)
     poly_rate,
 )
 from microslip.model.coefficients import (
+    DRIVE_AMPLITUDE,
     DRIVE_KIND,
+    DRIVE_OMEGA,
     DRIVE_VELOCITY,
+    FORCE,
     FRICTION_KIND,
+    MU,
+    MU_STATIC,
+    STRIBECK_EXPONENT,
+    STRIBECK_VELOCITY,
     TANGENTIAL_KIND,
+    TANGENTIAL_STIFFNESS,
 )
 from microslip.model.damping import can_separate_in_overlap
 from microslip.model.drive import KINEMATIC
@@ -122,6 +130,22 @@ def normal_coefficients(c: np.ndarray) -> np.ndarray:
     out[DRIVE_KIND] = KINEMATIC
     out[DRIVE_VELOCITY] = 1.0
     return out
+
+
+# The tangential slots of a coefficient vector (force, friction, spring, drive): no
+# normal law reads them, so two set-ups that differ only there have the same tape.
+TANGENTIAL_SLOTS = (
+    FORCE, MU, MU_STATIC, TANGENTIAL_STIFFNESS, STRIBECK_VELOCITY, STRIBECK_EXPONENT,
+    DRIVE_AMPLITUDE, DRIVE_OMEGA,
+)  # fmt: skip
+
+
+def normal_key(c: np.ndarray) -> bytes:
+    """The normal set-up of coefficient vector ``c`` as bytes: equal for vectors whose
+    normal motion is the same (:func:`normal_coefficients`, the tangential slots zeroed)."""
+    out = normal_coefficients(c)
+    out[list(TANGENTIAL_SLOTS)] = 0.0
+    return out.tobytes()
 
 
 @njit(cache=True, error_model="numpy")

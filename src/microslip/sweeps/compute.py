@@ -7,7 +7,7 @@ from collections.abc import Callable
 import numpy as np
 
 from microslip.analysis.steady_state import ORBIT_STEPS, mean_velocity_grid
-from microslip.model.coefficients import FORCE, MU, MU_STATIC, pack
+from microslip.model.coefficients import FORCE, MU, MU_STATIC, TANGENTIAL_STIFFNESS, pack
 from microslip.simulation import DEFAULT_RK4_STEPS_PER_PERIOD, initial_state_from_amplitude
 from microslip.sweeps.kernel_choice import repeats_from_rest, time_kernel
 from microslip.sweeps.spec import ChunkKey, SweepSpec
@@ -34,21 +34,15 @@ def compute_chunk(spec: SweepSpec, key: ChunkKey, progress: Progress | None = No
         return forced_chunk(spec, key, progress)
     if spec.base.damping is not None and spec.method == "steady":
         return damped_free_chunk(spec, key)
+    if spec.method == "time":
+        return _time_chunks(spec, [key], progress)[0]
     params = spec.params_at(key)
     forces = np.asarray(spec.forces)
     amplitudes = np.asarray(spec.amplitudes[spec.amplitude_slice(key)])
-    if spec.method == "steady":
-        out = np.empty((forces.size, amplitudes.size))
-        if not mean_velocity_grid(forces, amplitudes, pack(params, 0.0), ORBIT_STEPS, out):
-            raise RuntimeError(f"orbit table overflow in chunk {key}")
-        return out
-    dt = _time_step(spec, spec.model_at(key))
-    normal0 = np.array([initial_state_from_amplitude(params, a)[:2] for a in amplitudes])
-    x = _shared_run(
-        [spec.model_at(key)] * amplitudes.size, normal0, forces, spec.duration, dt, spec.backend,
-        _share(progress, amplitudes.size),
-    )  # fmt: skip
-    return (x / spec.duration).T
+    out = np.empty((forces.size, amplitudes.size))
+    if not mean_velocity_grid(forces, amplitudes, pack(params, 0.0), ORBIT_STEPS, out):
+        raise RuntimeError(f"orbit table overflow in chunk {key}")
+    return out
 
 
 def _share(progress: Progress | None, parts: int) -> Callable[[float], None] | None:
@@ -60,41 +54,69 @@ def _share(progress: Progress | None, parts: int) -> Callable[[float], None] | N
 
 
 def shares_runs(spec: SweepSpec) -> bool:
-    """True when :func:`compute_chunks` computes several chunks in one run: a forced
-    model's time chunks on a shared-normal kernel, one normal set-up each."""
-    return spec.forced and spec.method == "time"
+    """True when :func:`compute_chunks` computes several chunks in one run: the time
+    chunks, whose normal set-ups then spread over the cores, and whose set-ups that
+    differ only in friction coefficients share one tape (:func:`_time_chunks`)."""
+    return spec.method == "time"
+
+
+def tape_order(spec: SweepSpec) -> Callable[[ChunkKey], tuple]:
+    """A sort key for chunk keys that puts next to each other the chunks whose normal
+    set-ups differ only in friction coefficients (axes "mu", "friction.*": no normal law
+    reads them), so that a batch of :func:`compute_chunks` finds them together and runs
+    them on one tape each."""
+    friction = [i for i, (name, _) in enumerate(spec.param_axes)
+                if name == "mu" or name.startswith("friction.")]  # fmt: skip
+    normal = [i for i in range(len(spec.param_axes)) if i not in friction]
+
+    def order(key: ChunkKey) -> tuple:
+        return (*(key[i] for i in normal), key[-1], *(key[i] for i in friction))
+
+    return order
 
 
 def compute_chunks(
     spec: SweepSpec, keys: list[ChunkKey], progress: Progress | None = None
 ) -> list[np.ndarray]:
-    """:func:`compute_chunk` of each key, the same bits; a forced model's time chunks go
-    through one shared-normal run, so that their normal set-ups (one per chunk) spread
-    over the cores (a set-up's lanes depend on nothing else in the run). ``progress``
-    hears of the fraction of all the keys' work done."""
+    """:func:`compute_chunk` of each key, the same bits; time chunks go through one
+    shared-normal run (:func:`_time_chunks`: a set-up's lanes depend on nothing else in
+    the run). ``progress`` hears of the fraction of all the keys' work done."""
     if not shares_runs(spec):
         return [compute_chunk(spec, key, _share(progress, len(keys))) for key in keys]
-    return _forced_time_chunks(spec, keys, progress)
+    return _time_chunks(spec, keys, progress)
 
 
-def _forced_time_chunks(
+def _time_chunks(
     spec: SweepSpec, keys: list[ChunkKey], progress: Progress | None = None
 ) -> list[np.ndarray]:
-    """A forced model's time chunks through one shared-normal run (:func:`compute_chunks`);
-    each chunk's model runs on a shared-normal kernel."""
+    """Time chunks through one shared-normal run per step size: a row per normal set-up
+    (a forced model's chunk is one, from rest at y0; a free vibration's one per amplitude
+    of the chunk, from rest at y0 - A), every force on each (:func:`_shared_run`, where
+    rows that differ only in friction coefficients share a tape). Blocks (forces,
+    amplitudes) of x(T)/T [m/s], one per key."""
     models = [spec.model_at(key) for key in keys]
     steps = [_time_step(spec, model) for model in models]
-    blocks: list[np.ndarray | None] = [None] * len(keys)
+    rows_of_key: list[list[int]] = []
+    row_models, normal0 = [], []
+    for key, model in zip(keys, models, strict=True):
+        if spec.forced:
+            starts = [(model.params.static_deflection, 0.0)]
+        else:
+            amplitudes = np.asarray(spec.amplitudes[spec.amplitude_slice(key)])
+            starts = [initial_state_from_amplitude(model.params, a)[:2] for a in amplitudes]
+        rows_of_key.append(list(range(len(row_models), len(row_models) + len(starts))))
+        row_models += [model] * len(starts)
+        normal0 += starts
+    normal0 = np.array(normal0, dtype=float).reshape(-1, 2)
+    share = _share(progress, len(row_models))
+    x = np.empty((len(row_models), len(spec.forces)))
     for dt in dict.fromkeys(steps):  # one run per step size, in first-seen order
-        picked = [k for k, step in enumerate(steps) if step == dt]
-        normal0 = np.array([[models[k].params.static_deflection, 0.0] for k in picked])
-        x = _shared_run(
-            [models[k] for k in picked], normal0, spec.forces, spec.duration, dt, spec.backend,
-            _share(progress, len(keys)),
+        rows = [r for k, step in enumerate(steps) if step == dt for r in rows_of_key[k]]
+        x[rows] = _shared_run(
+            [row_models[r] for r in rows], normal0[rows], spec.forces, spec.duration, dt,
+            spec.backend, share,
         )  # fmt: skip
-        for row, k in enumerate(picked):
-            blocks[k] = (x[row] / spec.duration)[:, None]
-    return blocks
+    return [(x[rows] / spec.duration).T for rows in rows_of_key]
 
 
 def _time_step(spec: SweepSpec, model) -> float:
@@ -139,7 +161,7 @@ def forced_chunk(spec: SweepSpec, key: ChunkKey, progress: Progress | None = Non
     model = spec.model_at(key)
     forces = np.asarray(spec.forces, dtype=float)
     if spec.method == "time":
-        return _forced_time_chunks(spec, [key], progress)[0]
+        return _time_chunks(spec, [key], progress)[0]
     try:
         table = model_sliding_table(model)
     except NotPeriodOneError as error:
@@ -174,7 +196,7 @@ def _normal_periods(models, normal0) -> np.ndarray:
 
 
 def _shared_run(models, normal0, forces, duration, dt, backend="cpu", on_done=None) -> np.ndarray:
-    """x(duration) [m], shape (set-ups, forces), from rest on each normal set-up (one
+    """x(duration) [m], shape (rows, forces), from rest on each row's normal set-up (one
     model per row of ``normal0``: y [m], ẏ [m/s] at t = 0) under every constant force
     [N], on the shared-normal kernel of the models' tangential contact (all rigid, all
     springs of constant stiffness or all Mindlin springs; a relaxed spring at t = 0);
@@ -182,60 +204,103 @@ def _shared_run(models, normal0, forces, duration, dt, backend="cpu", on_done=No
     (:mod:`~microslip.integrators.shared_lanes_cuda`,
     :mod:`~microslip.integrators.spring_lanes_cuda`,
     :mod:`~microslip.integrators.mindlin_lanes_cuda`); ``on_done`` as for
-    :func:`~microslip.integrators.shared_lanes.run_shared` (the CPU kernels only)."""
-    from microslip.integrators.normal_tape import normal_coefficients
+    :func:`~microslip.integrators.shared_lanes.run_shared` (the CPU kernels only), told
+    in rows.
+
+    Rows whose models differ only in their friction coefficients share one normal set-up
+    (:func:`_normal_setups`): one tape for all their lanes, each lane with its own
+    μ_s, μ_k. A lane's bits depend only on its own parameters and its tape, so they are
+    those of a run of its row alone."""
     from microslip.integrators.shared_lanes import run_shared
     from microslip.integrators.spring_lanes import run_spring_lanes
 
     forces = np.asarray(forces, dtype=float)
-    n_setups = normal0.shape[0]
     periods = _normal_periods(models, normal0)
-    packed = {id(model): normal_coefficients(model.pack(0.0)) for model in models}
-    coeffs = np.array([packed[id(model)] for model in models])
-    if time_kernel(models[0]) == "mindlin":
-        x = _mindlin_run(models, coeffs, normal0, forces, duration, dt, periods, backend,
-                         on_done)  # fmt: skip
-        return x.reshape(n_setups, forces.size)
-    groups, lane_forces, mu_s, mu_k = _lane_arrays(models, forces)
-    if models[0].is_compliant:
-        stiffness = [model.tangential.stiffness for model in models]
+    setups, setup_of_row, coeffs = _normal_setups(models, normal0, periods)
+    # Lanes by set-up (stably), each row's forces with its own friction coefficients.
+    rows = np.argsort(setup_of_row, kind="stable")
+    groups = np.repeat(setup_of_row[rows], forces.size)
+    lane_forces, mu_s, mu_k = _lane_arrays([models[r] for r in rows], forces)
+    on_done = _per_row(on_done, len(models), setups.size)
+    setup = (coeffs[setups], normal0[setups])
+    kernel = time_kernel(models[0])
+    if kernel == "mindlin":
+        x = _mindlin_run(models, rows, setups, groups, normal0, periods, forces, mu_s, mu_k,
+                         coeffs, duration, dt, backend, on_done)  # fmt: skip
+    elif kernel == "spring":
+        stiffness = [models[r].tangential.stiffness for r in setups]
         if backend == "cuda":
             from microslip.integrators.spring_lanes_cuda import run_spring_lanes_cuda
 
-            x = run_spring_lanes_cuda(coeffs, normal0, stiffness, groups, lane_forces, mu_s,
-                                      mu_k, duration, dt, periods=periods)[0]  # fmt: skip
+            x = run_spring_lanes_cuda(*setup, stiffness, groups, lane_forces, mu_s, mu_k,
+                                      duration, dt, periods=periods[setups])[0]  # fmt: skip
         else:
-            x = run_spring_lanes(coeffs, normal0, stiffness, groups, lane_forces, mu_s, mu_k,
-                                 duration, dt, periods=periods, on_done=on_done)[0]  # fmt: skip
+            x = run_spring_lanes(*setup, stiffness, groups, lane_forces, mu_s, mu_k, duration,
+                                 dt, periods=periods[setups], on_done=on_done)[0]  # fmt: skip
     elif backend == "cuda":
         from microslip.integrators.shared_lanes_cuda import run_shared_cuda
 
-        x = run_shared_cuda(coeffs, normal0, groups, lane_forces, mu_s, mu_k, duration, dt,
-                            periods=periods)[0]  # fmt: skip
+        x = run_shared_cuda(*setup, groups, lane_forces, mu_s, mu_k, duration, dt,
+                            periods=periods[setups])[0]  # fmt: skip
     else:
-        x = run_shared(coeffs, normal0, groups, lane_forces, mu_s, mu_k, duration, dt,
-                       periods=periods, on_done=on_done)[0]  # fmt: skip
-    return x.reshape(n_setups, forces.size)
+        x = run_shared(*setup, groups, lane_forces, mu_s, mu_k, duration, dt,
+                       periods=periods[setups], on_done=on_done)[0]  # fmt: skip
+    out = np.empty((len(models), forces.size))
+    out[rows] = np.asarray(x).reshape(len(models), forces.size)
+    return out
+
+
+def _normal_setups(models, normal0, periods):
+    """(setups, setup_of_row, coefficients): the distinct normal set-ups of the rows, by
+    first row, the set-up of each row, and each row's normal coefficient vector
+    (:func:`~microslip.integrators.normal_tape.normal_coefficients`). Rows share a set-up
+    where their normal motion is the same (:func:`~microslip.integrators.normal_tape.normal_key`,
+    the same start and period) and so is their tangential spring (the spring and Mindlin
+    kernels hold it per set-up): in a sweep over friction coefficients."""
+    from microslip.integrators.normal_tape import normal_coefficients, normal_key
+
+    packed = {id(model): model.pack(0.0) for model in models}
+    coeffs = np.array([normal_coefficients(packed[id(model)]) for model in models])
+    index: dict[tuple, int] = {}
+    first_rows: list[int] = []  # a set-up's first row stands for it (coefficients, spring)
+    setup_of_row = np.empty(len(models), dtype=np.int64)
+    for r, model in enumerate(models):
+        spring = packed[id(model)][TANGENTIAL_STIFFNESS] if model.is_compliant else 0.0
+        key = (normal_key(packed[id(model)]), normal0[r].tobytes(), periods[r], spring)
+        if key not in index:
+            index[key] = len(first_rows)
+            first_rows.append(r)
+        setup_of_row[r] = index[key]
+    return np.array(first_rows, dtype=np.int64), setup_of_row, coeffs
+
+
+def _per_row(on_done, n_rows: int, n_setups: int):
+    """``on_done`` told in set-ups, counted in rows (a set-up of k rows is k of them;
+    the rows of a sweep's set-ups are as many each, so the count is exact there)."""
+    if on_done is None or n_rows == n_setups:
+        return on_done
+    return lambda count: on_done(count * n_rows / n_setups)
 
 
 def _lane_arrays(models, forces):
-    """(set-up, force [N], μ_s [-], μ_k [-]) of every lane of :func:`_shared_run`: each
-    model's set-up under every force, set-up-major. The coefficients are those the
-    model's friction law packs (Coulomb: μ for both; StaticKinetic: its own)."""
-    groups = np.repeat(np.arange(len(models)), forces.size)
+    """(force [N], μ_s [-], μ_k [-]) of every lane of the given rows' models, each under
+    every force, row-major. The coefficients are those the model's friction law packs
+    (Coulomb: μ for both; StaticKinetic: its own)."""
     packed = np.array([model.pack(0.0)[[MU_STATIC, MU]] for model in models])
     mu_static = np.repeat(packed[:, 0], forces.size)
     mu_kinetic = np.repeat(packed[:, 1], forces.size)
-    return groups, np.tile(forces, len(models)), mu_static, mu_kinetic
+    return np.tile(forces, len(models)), mu_static, mu_kinetic
 
 
-def _mindlin_run(models, coeffs, normal0, forces, duration, dt, periods, backend, on_done=None):
-    """x(duration) [m] per lane (set-up-major) of the Mindlin lanes of :func:`_shared_run`.
+def _mindlin_run(models, rows, setups, groups, normal0, periods, forces, mu_s, mu_k, coeffs,
+                 duration, dt, backend, on_done=None):  # fmt: skip
+    """x(duration) [m] of the Mindlin lanes of :func:`_shared_run` (lanes in its order:
+    ``rows`` by set-up, each under every force).
 
     A set-up the lanes hand back runs on the batched RK4 kernel instead, one trajectory
-    per force (``simulate(method="rk4")`` bit for bit); the other set-ups keep their
-    lanes' results (the CPU and GPU lanes both hand them on as the error's ``partial``):
-    each set-up's result still depends on nothing else in the run. The
+    per (row, force) (``simulate(method="rk4")`` bit for bit); the other set-ups keep
+    their lanes' results (the CPU and GPU lanes both hand them on as the error's
+    ``partial``): each set-up's result still depends on nothing else in the run. The
     lanes hand back a set-up where a lane stalls (an exact tie of stick and slip at a
     touchdown) and one that leaves contact at a contact exponent outside
     :func:`~microslip.integrators.mindlin_lanes.supports_exponent`, whose stiffness
@@ -251,30 +316,21 @@ def _mindlin_run(models, coeffs, normal0, forces, duration, dt, periods, backend
         from microslip.integrators.mindlin_lanes import run_mindlin_lanes
 
         run = partial(run_mindlin_lanes, on_done=on_done)
-
-    def lanes(setups):
-        picked = [models[g] for g in setups]
-        ratio = [model.tangential.ratio for model in picked]
-        groups, lane_forces, mu_s, mu_k = _lane_arrays(picked, forces)
-        x = run(coeffs[setups], normal0[setups], ratio, groups, lane_forces, mu_s, mu_k,
-                duration, dt, periods=periods[setups])[0]  # fmt: skip
-        return x.reshape(setups.size, forces.size)
-
-    everything = np.arange(len(models))
+    ratio = [models[r].tangential.ratio for r in setups]
+    lane_forces = np.tile(forces, len(rows))
     try:
-        return lanes(everything).ravel()
+        return run(coeffs[setups], normal0[setups], ratio, groups, lane_forces, mu_s, mu_k,
+                   duration, dt, periods=periods[setups])[0]  # fmt: skip
     except LaneStalledError as error:
-        stalled, partial = error.setups, error.partial
-    x = np.empty((len(models), forces.size))
-    rest = np.setdiff1d(everything, stalled)
-    x[rest] = partial[0].reshape(len(models), forces.size)[rest]  # ran to the end
-    if stalled.size:
-        # One batched run for all of them: blocks full of lanes, spread over the threads
-        # (a lane's bits do not depend on its block).
-        states0 = np.zeros((stalled.size * forces.size, 4))
-        states0[:, :2] = np.repeat(normal0[stalled], forces.size, axis=0)
-        run = _batched_run([models[g] for g in stalled], forces, duration, dt, states0)
-        x[stalled] = run.states[:, 2].reshape(stalled.size, forces.size)
+        stalled, x = error.setups, np.array(error.partial[0])  # the rest ran to the end
+    # The rows of the handed-back set-ups in one batched run: blocks full of lanes,
+    # spread over the threads (a lane's bits do not depend on its block).
+    back = np.flatnonzero(np.isin(groups.reshape(len(rows), forces.size)[:, 0], stalled))
+    states0 = np.zeros((back.size * forces.size, 4))
+    states0[:, :2] = np.repeat(normal0[rows[back]], forces.size, axis=0)
+    batch = _batched_run([models[r] for r in rows[back]], forces, duration, dt, states0)
+    x = x.reshape(len(rows), forces.size)
+    x[back] = batch.states[:, 2].reshape(back.size, forces.size)
     return x.ravel()
 
 

@@ -14,7 +14,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from microslip.sweeps.compute import compute_chunk, compute_chunks, shares_runs
+from microslip.sweeps.compute import compute_chunk, compute_chunks, shares_runs, tape_order
 from microslip.sweeps.dataset import sweep_dataset
 from microslip.sweeps.spec import SweepSpec
 from microslip.sweeps.store import SweepStore, exclusive_lock
@@ -130,10 +130,14 @@ def _checked(spec: SweepSpec, key, block) -> np.ndarray:
     return block
 
 
-# In-process, a forced model's time chunks (one normal set-up each) are computed this many
-# at a time in one shared-normal run, which spreads the set-ups over the cores; one at a
-# time, each would keep a single core busy. Small enough for a lively progress bar.
+# In-process, time chunks are computed this many at a time in one shared-normal run,
+# which spreads their set-ups over the cores (a forced model's chunk is one set-up: one at
+# a time, each would keep a single core busy) and lets set-ups that differ only in
+# friction coefficients share a tape. Small enough for a lively progress bar.
 LOCAL_BATCH = 16
+# ... and at most this many lanes in all (~190 B each: the in-memory chunk cap), so that
+# batching never holds more than one large chunk's buffers.
+BATCH_LANES = 2**18
 
 # At most this many bytes of finished chunks wait for the store's writer thread: where the
 # chunks come faster than the disk takes them (fsyncs), the computation waits instead of
@@ -142,11 +146,24 @@ MAX_PENDING_WRITE_BYTES = 32 * 2**20
 
 
 def _local_batches(spec: SweepSpec, keys: list) -> Iterator[list]:
-    """``keys`` in the batches the in-process loop computes together (single keys except
-    for a forced model's time chunks)."""
-    size = LOCAL_BATCH if shares_runs(spec) else 1
-    for start in range(0, len(keys), size):
-        yield keys[start : start + size]
+    """``keys`` in the batches the in-process loop computes together: single keys, except
+    time chunks, up to LOCAL_BATCH of them and BATCH_LANES lanes (a chunk of more is a
+    batch of its own)."""
+    if not shares_runs(spec):
+        yield from ([key] for key in keys)
+        return
+    batch: list = []
+    lanes = 0
+    for key in sorted(keys, key=tape_order(spec)):
+        block = spec.amplitude_slice(key)
+        size = len(spec.forces) * (block.stop - block.start)
+        if batch and (len(batch) == LOCAL_BATCH or lanes + size > BATCH_LANES):
+            yield batch
+            batch, lanes = [], 0
+        batch.append(key)
+        lanes += size
+    if batch:
+        yield batch
 
 
 def run_sweep(
