@@ -226,7 +226,7 @@ def test_pieces_written_once_per_cycle_row_give_the_bits_of_writing_them_as_serv
 
     cached, switches, flagged = lanes()
     status = ml._run_group(C, y0, ydot0, RATIO, cycle, shape, duration, DT, cached, switches,
-                           flagged, threads.stop_flag())  # fmt: skip
+                           flagged, threads.stop_flag(), 0)  # fmt: skip
     assert status == 0 and switches.sum() > 10
     served, served_switches, served_flagged = lanes()
     flying = ml.start_lanes(C, y0, ydot0, served, forces.size)

@@ -133,10 +133,11 @@ def test_a_copied_mindlin_hand_back_names_the_set_up_and_keeps_the_others(as_thr
 
 
 def test_a_copied_run_reports_its_set_ups(as_threads):
-    """Progress counts set-ups: two set-ups as three copies each report 2 in all."""
+    """Progress counts set-ups: two set-ups as three copies each report 2 in all (not
+    6), in the parts run_ranges polls."""
     as_threads(6)
     coeffs, normal0 = _set_ups(ms.Model(P), [Y0, 0.5 * Y0])
     told = []
     run_shared(coeffs, normal0, np.repeat([0, 1], FORCES.size), np.tile(FORCES, 2), 0.1, 0.1,
                1e-3, DT, on_done=told.append)  # fmt: skip
-    assert len(told) == 6 and sum(told) == pytest.approx(2.0)
+    assert told and sum(told) == pytest.approx(2.0)

@@ -150,12 +150,14 @@ def _vector_pass(lanes, n, a, piece, h_int, h2_kint):
 
 
 @njit(cache=True)
-def _run_group(c, y0, ydot0, ratio, cycle, shape, t_end, dt, lanes, switches, flagged, stop):
+def _run_group(c, y0, ydot0, ratio, cycle, shape, t_end, dt, lanes, switches, flagged, stop,
+               item):  # fmt: skip
     """One normal set-up and its lanes, in place; returns the status. On a repeated tape
     (``shape``: period rows, tail rows, repeats, T) each row's piece is written once
     (:func:`_piece_table`) and read every period: a free vibration's pieces are the same
     every period, and set_piece is most of a set-up's own cost. Returns STOPPED after a
-    period or a block of tape once ``stop[0]`` is set (:func:`threads.stop_flag`)."""
+    period or a block of tape once ``stop[0]`` is set (:func:`threads.stop_flag`), and
+    reports its progress there as ``item`` (:func:`threads.report`)."""
     n = lanes.shape[1]
     flying = start_lanes(c, y0, ydot0, lanes, n)
     laws = as_tuple(c)  # the coefficients as the pieces' laws take them, once per set-up
@@ -166,7 +168,7 @@ def _run_group(c, y0, ydot0, ratio, cycle, shape, t_end, dt, lanes, switches, fl
             return LEFT_ROUGH_CONTACT  # before its pieces are written (module doc)
         table = np.zeros((total, law.PIECE))
         coarse = _piece_table(table, cycle, total, laws, ratio)
-        for _ in range(repeats):
+        for k in range(repeats):
             if stop[0] != 0:
                 return STOPPED
             status, flying = _run_rows(
@@ -175,6 +177,7 @@ def _run_group(c, y0, ydot0, ratio, cycle, shape, t_end, dt, lanes, switches, fl
             )  # fmt: skip
             if status != OK:
                 return status
+            threads.report(stop, item, (k + 1) / (repeats + 1))
         return _run_rows(
             lanes, cycle, period_rows, total, table, CACHED, coarse, laws, flying, switches,
             flagged,
@@ -194,6 +197,7 @@ def _run_group(c, y0, ydot0, ratio, cycle, shape, t_end, dt, lanes, switches, fl
         )  # fmt: skip
         if status != OK:
             return status
+        threads.report(stop, item, carry[nt.C_T] / t_end)
         if tape_status == 0:
             return OK
 
@@ -291,7 +295,7 @@ def _run_groups(g_lo, g_hi, normal_c, y0, ydot0, ratio, cycles, offsets, shapes,
         cycle, shape = periodic_tape.group_cycle(cycles, offsets, shapes, g)
         status[g] = _run_group(
             normal_c[g].copy(), y0[g], ydot0[g], ratio[g], cycle, shape, t_end, dt,
-            group_lanes, group_switches, group_flagged, stop,
+            group_lanes, group_switches, group_flagged, stop, g,
         )  # fmt: skip
         put_group(lanes, switches, flagged, lo, group_lanes, group_switches, group_flagged)
 
@@ -332,7 +336,7 @@ def run_mindlin_lanes(normal_coeffs, normal_states0, ratio, group_of_lane, force
     flagged = np.zeros(n_lanes, dtype=np.int64)
     status = np.zeros(copies.n_copies, dtype=np.int64)
     cycles = periodic_tape.cycles(normal_coeffs, states0, periods, t_end, dt)
-    stop = threads.stop_flag()
+    stop = threads.stop_flag(copies.n_copies)
     threads.run_ranges(
         _run_groups, copies.n_copies, normal_coeffs, states0[:, 0].copy(), states0[:, 1].copy(),
         ratio, *cycles, starts, lanes, switches, flagged, status, float(t_end), float(dt), stop,

@@ -196,19 +196,21 @@ def _lanes_over_rows(tape, r0, r1, lanes, n, n_active, switches, flagged):
 
 
 @njit(cache=True)
-def _run_group(c, y0, ydot0, cycle, shape, t_end, dt, lanes, switches, flagged, park, stop):
+def _run_group(c, y0, ydot0, cycle, shape, t_end, dt, lanes, switches, flagged, park, stop,
+               item):  # fmt: skip
     """One normal set-up and its lanes (rows FM ... FLAG of ``lanes``), sorted by
     decreasing |F|/μ_s, in place; returns the status. Only lanes [0, n_active) can be
     moving: past it every lane sticks, and one that a piece cannot release
     (|F|/μ_s <= min P) is left alone. A periodic normal motion (``shape`` from
     :func:`periodic_tape.cycle_rows` with period rows > 0) goes through
     :func:`_run_cycle`. Returns STOPPED after a block of tape once ``stop[0]`` is set
-    (:func:`threads.stop_flag`)."""
+    (:func:`threads.stop_flag`), and reports its progress there as ``item``
+    (:func:`threads.report`)."""
     n = lanes.shape[1]
     start_modes(lanes, 0, n, normal_force(0.0, y0, ydot0, as_tuple(c)))
     n_active = _active_end(lanes, n)
     if shape[0] > 0:
-        return _run_cycle(cycle, shape, lanes, switches, flagged, n_active, park, stop)
+        return _run_cycle(cycle, shape, lanes, switches, flagged, n_active, park, stop, item)
     carry, tape, work = nt.tape_buffers(y0, ydot0)
     while True:
         if stop[0] != 0:
@@ -221,15 +223,16 @@ def _run_group(c, y0, ydot0, cycle, shape, t_end, dt, lanes, switches, flagged, 
         )
         if status != OK:
             return status
+        threads.report(stop, item, carry[nt.C_T] / t_end)
         if tape_status == 0:
             return OK
 
 
 @njit(cache=True)
-def _run_cycle(cycle, shape, lanes, switches, flagged, n_active, park, stop):
+def _run_cycle(cycle, shape, lanes, switches, flagged, n_active, park, stop, item):
     """The lanes through ``repeats`` periods of ``cycle`` and its tail (``shape`` =
     (period rows, tail rows, repeats, T)), in place; returns the status (STOPPED after a
-    period once ``stop[0]`` is set).
+    period once ``stop[0]`` is set; the periods done reported as ``item``).
 
     Every period's pieces are the same rows, and a lane's law reads its state (ẋ, mode)
     and never x. So a lane that starts a period in the state it started the previous one
@@ -254,6 +257,7 @@ def _run_cycle(cycle, shape, lanes, switches, flagged, n_active, park, stop):
         )
         if status != OK:
             return status
+        threads.report(stop, item, (k + 1) / (repeats + 1))
         if park and k + 1 < repeats:
             n_live = parking.park(lanes, switches, flagged, book, n_live, k + 1, X, V, MODE)
             # The live lanes kept their order: the moving ones are still below n_active.
@@ -279,7 +283,7 @@ def _run_groups(g_lo, g_hi, normal_c, y0, ydot0, cycles, offsets, shapes, starts
         cycle, shape = periodic_tape.group_cycle(cycles, offsets, shapes, g)
         status[g] = _run_group(
             normal_c[g].copy(), y0[g], ydot0[g], cycle, shape, t_end, dt, group_lanes,
-            group_switches, group_flagged, park, stop,
+            group_switches, group_flagged, park, stop, g,
         )  # fmt: skip
         put_group(lanes, switches, flagged, lo, group_lanes, group_switches, group_flagged)
 
@@ -325,7 +329,7 @@ def run_shared(normal_coeffs, normal_states0, group_of_lane, forces, mu_static, 
     flagged = np.zeros(n_lanes, dtype=np.int64)
     status = np.zeros(copies.n_copies, dtype=np.int64)
     cycles = periodic_tape.cycles(normal_coeffs, normal_states0, periods, t_end, dt)
-    stop = threads.stop_flag()
+    stop = threads.stop_flag(copies.n_copies)
     threads.run_ranges(
         _run_groups, copies.n_copies, normal_coeffs, normal_states0[:, 0].copy(),
         normal_states0[:, 1].copy(), *cycles, starts, lanes, switches, flagged, status,

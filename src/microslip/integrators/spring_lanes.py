@@ -181,9 +181,11 @@ def fly(lanes, n, h, flying):
 
 
 @njit(cache=True)
-def _run_group(c, y0, ydot0, k_t, cycle, shape, t_end, dt, lanes, switches, flagged, stop):
+def _run_group(c, y0, ydot0, k_t, cycle, shape, t_end, dt, lanes, switches, flagged, stop,
+               item):  # fmt: skip
     """One normal set-up and its lanes, in place; returns the status (STOPPED after a
-    block of tape once ``stop[0]`` is set: :func:`threads.stop_flag`)."""
+    block of tape once ``stop[0]`` is set: :func:`threads.stop_flag`; each block's
+    progress reported there as ``item``, :func:`threads.report`)."""
     n = lanes.shape[1]
     mass = c[MASS]
     omega = math.sqrt(k_t / mass)
@@ -227,6 +229,8 @@ def _run_group(c, y0, ydot0, k_t, cycle, shape, t_end, dt, lanes, switches, flag
                         return LANE_STALLED
                     switches[i] += k
                     lanes[X, i], lanes[V, i], lanes[FS, i], lanes[MODE, i] = xi, vi, fi, mi
+        if rows > 0:
+            threads.report(stop, item, (tape[rows - 1, nt.T0] + tape[rows - 1, nt.H]) / t_end)
         if tape_status == 0:
             return OK
 
@@ -242,7 +246,7 @@ def _run_groups(g_lo, g_hi, normal_c, y0, ydot0, stiffness, cycles, offsets, sha
         cycle, shape = periodic_tape.group_cycle(cycles, offsets, shapes, g)
         status[g] = _run_group(
             normal_c[g].copy(), y0[g], ydot0[g], stiffness[g], cycle, shape, t_end, dt,
-            group_lanes, group_switches, group_flagged, stop,
+            group_lanes, group_switches, group_flagged, stop, g,
         )  # fmt: skip
         put_group(lanes, switches, flagged, lo, group_lanes, group_switches, group_flagged)
 
@@ -279,7 +283,7 @@ def run_spring_lanes(normal_coeffs, normal_states0, stiffness, group_of_lane, fo
     flagged = np.zeros(n_lanes, dtype=np.int64)
     status = np.zeros(copies.n_copies, dtype=np.int64)
     cycles = periodic_tape.cycles(normal_coeffs, states0, periods, t_end, dt)
-    stop = threads.stop_flag()
+    stop = threads.stop_flag(copies.n_copies)
     threads.run_ranges(
         _run_groups, copies.n_copies, normal_coeffs, states0[:, 0].copy(), states0[:, 1].copy(),
         stiffness, *cycles, starts, lanes, switches, flagged, status, float(t_end), float(dt),

@@ -21,7 +21,9 @@ and waits where Ctrl-C reaches it, and raises it at once. The ranges already run
 cannot be stopped from outside; a kernel that may run long takes a stop flag
 (:func:`stop_flag`), which :func:`run_ranges` raises on an interrupt, and reads it
 between its blocks of work, so that an interrupted map in a library session (a
-notebook) does not keep the cores busy to its end.
+notebook) does not keep the cores busy to its end. The same array holds a progress slot
+per item (:func:`report`), which the waiting thread reads every POLL_S: a caller's
+progress then moves inside a long item too.
 """
 
 from __future__ import annotations
@@ -30,15 +32,17 @@ import os
 import queue
 import threading
 from collections.abc import Callable
+from concurrent import futures
 from concurrent.futures import Future
 from typing import Any
 
 import numba
 import numpy as np
+from numba import njit
 
 from microslip import _jit_cache  # noqa: F401  (registers the cache before any @njit)
 
-__all__ = ["run_ranges", "stop_flag", "thread_count"]
+__all__ = ["PROGRESS_SCALE", "report", "run_ranges", "stop_flag", "thread_count"]
 
 
 def thread_count() -> int:
@@ -99,12 +103,28 @@ def _new_pool_after_fork() -> None:
 os.register_at_fork(after_in_child=_new_pool_after_fork)
 
 
-def stop_flag() -> np.ndarray:
-    """A kernel's stop flag for :func:`run_ranges`' ``stop``: one int64, 0 until an
+def stop_flag(n_items: int = 0) -> np.ndarray:
+    """A kernel's stop flag for :func:`run_ranges`' ``stop``: an int64, 0 until an
     interrupt abandons the ranges, then 1. A kernel reads ``stop[0]`` between its blocks
     of work (a tape block, a period) and returns at once where it is not 0; its results
-    are then not read."""
-    return np.zeros(1, dtype=np.int64)
+    are then not read.
+
+    With ``n_items``, one progress slot per item follows: a long item g may write the
+    fraction of it done as ``stop[1 + g]`` = fraction x PROGRESS_SCALE (:func:`report`),
+    and :func:`run_ranges` tells its ``on_done`` of those fractions as they grow."""
+    return np.zeros(1 + n_items, dtype=np.int64)
+
+
+PROGRESS_SCALE = 1 << 20  # a progress slot's value for a whole item
+POLL_S = 0.5  # how often run_ranges reads the progress slots [s]
+
+
+@njit(cache=True, nogil=True)
+def report(stop, item, fraction):
+    """Write ``fraction`` [1] of ``item`` done into its progress slot of ``stop``
+    (:func:`stop_flag`), where it has one."""
+    if 1 + item < stop.size:
+        stop[1 + item] = int(min(max(fraction, 0.0), 1.0) * PROGRESS_SCALE)
 
 
 # Ranges per thread when the items are cheap and many: enough for the threads to even out
@@ -159,6 +179,11 @@ def run_ranges(
     pending = iter(ranges)
     halted = threading.Event()
 
+    # Called from the main thread, the kernels' progress slots (if any) are read while
+    # it waits, and every report goes through it; else each range reports as it ends.
+    watched = on_done is not None and on_main and stop is not None and stop.size > n_items
+    ended: list[tuple[int, int]] = []
+
     def work() -> None:
         while not halted.is_set():
             with lock:
@@ -170,7 +195,10 @@ def run_ranges(
             except BaseException:
                 halted.set()
                 raise
-            if on_done is not None:
+            if watched:
+                with lock:
+                    ended.append(item)
+            elif on_done is not None:
                 on_done(item[1] - item[0])
 
     if not on_main:
@@ -189,6 +217,8 @@ def run_ranges(
         # compiled code holds off Ctrl-C until it returns, which may be minutes.
         helpers = _POOL.submit(work, threads)
         try:
+            if watched:
+                _watch(helpers, stop, n_items, ended, lock, on_done)
             for future in helpers:
                 future.exception()
         except BaseException:
@@ -201,6 +231,27 @@ def run_ranges(
     for future in helpers:
         if not future.cancelled() and future.exception() is not None:
             raise future.exception()
+
+
+def _watch(helpers, stop, n_items, ended, lock, on_done) -> None:
+    """Until the helpers end, tell ``on_done`` every POLL_S of the items' progress since
+    the last call: the fractions in their slots of ``stop`` (:func:`report`), 1 for each
+    item of a range in ``ended``."""
+    level = np.zeros(n_items)
+    told = 0.0
+    while True:
+        running = futures.wait(helpers, timeout=POLL_S).not_done
+        with lock:
+            finished, ended[:] = list(ended), []
+        np.maximum(level, stop[1 : 1 + n_items] / PROGRESS_SCALE, out=level)
+        for lo, hi in finished:
+            level[lo:hi] = 1.0
+        total = float(level.sum())
+        if total > told:
+            on_done(total - told)
+            told = total
+        if not running:
+            return
 
 
 def _halt(helpers: list[Future], halted: threading.Event) -> None:
