@@ -7,19 +7,10 @@ import sys
 import numpy as np
 import pytest
 import xarray as xr
-from cli_inprocess import MAP, SIM, run
+from cli_inprocess import MAP, SIM, one_line_failure, run
 
 import microslip as ms
 from microslip.cli.main import main
-
-
-def assert_one_line_failure(status, err, *words):
-    assert status == 2, err
-    assert len(err.strip().splitlines()) == 1, err
-    assert "Traceback" not in err
-    for word in words:
-        assert word in err, (word, err)
-
 
 BAD_TOML = [
     ("map", "[map]\nout = 5\nforce = '0.5'\namplitude = '1e-7'\n", "out"),
@@ -53,7 +44,7 @@ def test_toml_value_of_the_wrong_type_is_one_line(capsys, tmp_path, command, tex
     config = tmp_path / "run.toml"
     config.write_text(text)
     status, _, err = run(capsys, command, "--config", config)
-    assert_one_line_failure(status, err, key, "run.toml")
+    one_line_failure(status, err, key, "run.toml")
     assert [p.name for p in tmp_path.iterdir()] == ["run.toml"]
 
 
@@ -85,7 +76,7 @@ def test_toml_values_of_every_kind_are_accepted(capsys, tmp_path):
 )
 def test_abbreviated_flags_are_refused(capsys, tmp_path, args, prefix):
     status, _, err = run(capsys, *args)
-    assert_one_line_failure(status, err, "unrecognized arguments", prefix)
+    one_line_failure(status, err, "unrecognized arguments", prefix)
     assert list(tmp_path.iterdir()) == []
 
 
@@ -105,7 +96,7 @@ NO_OP = [
 def test_flags_that_would_do_nothing_are_refused(capsys, tmp_path, args, flag, why):
     out = tmp_path / ("run.nc" if args[0] == "simulate" else "map.nc")
     status, _, err = run(capsys, *args, "--out", out)
-    assert_one_line_failure(status, err, flag, why)
+    one_line_failure(status, err, flag, why)
     assert list(tmp_path.iterdir()) == []
 
 
@@ -113,11 +104,11 @@ def test_config_key_that_would_do_nothing_is_named(capsys, tmp_path):
     config = tmp_path / "run.toml"
     config.write_text("[map]\ndt = 1e-6\n")
     status, _, err = run(capsys, *MAP, "--out", tmp_path / "m.nc", "--config", config)
-    assert_one_line_failure(status, err, "dt in [map] of", "run.toml", "steady")
+    one_line_failure(status, err, "dt in [map] of", "run.toml", "steady")
     # The flag that makes it meaningful, given on the command line, makes it valid.
     config.write_text("[map]\nmethod = 'time'\n")
     status, _, err = run(capsys, *MAP, "--out", tmp_path / "m.nc", "--config", config, "--dt", "1")
-    assert_one_line_failure(status, err, "dt")  # now checked as a time step: too large
+    one_line_failure(status, err, "dt")  # now checked as a time step: too large
 
 
 def test_python_dash_m_microslip():
@@ -170,7 +161,7 @@ def test_unexpected_error_is_one_line_unless_debugging(capsys, monkeypatch):
     monkeypatch.setattr("microslip.cli.parser.cmd_info", broken)
     monkeypatch.delenv("MICROSLIP_DEBUG", raising=False)
     status, _, err = run(capsys, "info")
-    assert_one_line_failure(status, err, "internal error", "KeyError", "please report")
+    one_line_failure(status, err, "internal error", "KeyError", "please report")
     monkeypatch.setenv("MICROSLIP_DEBUG", "1")
     with pytest.raises(KeyError):
         main(["info"])

@@ -23,6 +23,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+from event_reference import time_sweep_error
 
 import microslip as ms
 
@@ -79,23 +80,5 @@ FORCES = np.array([0.3, 0.6, 0.9])
 @pytest.mark.parametrize("name", list(CASES))
 def test_time_sweep_matches_the_event_method(name):
     model, axes = CASES[name]
-    amplitudes = None if axes else [0.5 * Y0, 1.3 * Y0]
-    result = ms.sweep(model, axes, force=FORCES, amplitude=amplitudes, method="time",
-                      duration=DURATION)  # fmt: skip
-    values = np.asarray(result.values)
-    assert np.isfinite(values).all()
-    errors, reference = [], []
-    if axes:
-        ((field, levels),) = axes.items()
-        runs = [(model.replace(**{field: a}), None, values[j]) for j, a in enumerate(levels)]
-    else:
-        runs = [(model, a, values[:, j]) for j, a in enumerate(amplitudes)]
-    for run_model, amplitude, column in runs:
-        for i, force in enumerate(FORCES):
-            event = ms.simulate(run_model, force=float(force), amplitude=amplitude,
-                                duration=DURATION, rtol=1e-12)  # fmt: skip
-            reference.append(event.x[-1] / DURATION)
-            errors.append(abs(column[i] - reference[-1]))
-    scale = np.max(np.abs(reference))
-    assert scale > 0.0
-    assert max(errors) <= 1e-6 * scale, (max(errors) / scale, name)
+    error = time_sweep_error(model, axes, None if axes else [0.5 * Y0, 1.3 * Y0], FORCES, DURATION)
+    assert error <= 1e-6, (error, name)

@@ -24,6 +24,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+from event_reference import time_sweep_error
 
 import microslip as ms
 
@@ -52,32 +53,11 @@ CASES = {
 }  # fmt: skip
 
 
-def _event_runs(model, axes, values):
-    """(model, amplitude, column of the sweep) of each set-up of a case."""
-    if axes:
-        ((field, levels),) = axes.items()
-        return [(model.replace(**{field: a}), None, values[j]) for j, a in enumerate(levels)]
-    return [(model, a, values[:, j]) for j, a in enumerate(AMPLITUDES)]
-
-
 @pytest.mark.parametrize("name", list(CASES))
 def test_static_kinetic_time_sweep_matches_the_event_method(name):
     model, axes = CASES[name]
-    amplitudes = None if axes else AMPLITUDES
-    result = ms.sweep(model, axes, force=FORCES, amplitude=amplitudes, method="time",
-                      duration=DURATION)  # fmt: skip
-    values = np.asarray(result.values)
-    assert np.isfinite(values).all()
-    errors, reference = [], []
-    for run_model, amplitude, column in _event_runs(model, axes, values):
-        for i, force in enumerate(FORCES):
-            event = ms.simulate(run_model, force=float(force), amplitude=amplitude,
-                                duration=DURATION, rtol=1e-12)  # fmt: skip
-            reference.append(event.x[-1] / DURATION)
-            errors.append(abs(column[i] - reference[-1]))
-    scale = np.max(np.abs(reference))
-    assert scale > 0.0
-    assert max(errors) <= 1e-6 * scale, (max(errors) / scale, name)
+    error = time_sweep_error(model, axes, None if axes else AMPLITUDES, FORCES, DURATION)
+    assert error <= 1e-6, (error, name)
 
 
 def test_the_event_method_tells_static_kinetic_from_coulomb_at_these_points():
