@@ -308,7 +308,7 @@ def run_shared(normal_coeffs, normal_states0, group_of_lane, forces, mu_static, 
     park : on a repeated tape, a lane that starts a period as it started the last one
         takes its remaining periods at once (:func:`_run_cycle`); False steps every
         lane through every period (the same result to rounding, slower).
-    on_done : called with 1 as each set-up ends, from the thread that ran it (a
+    on_done : told of the set-ups done since its last call, in parts as they advance (a
         caller's progress: :func:`threads.run_ranges`).
 
     Returns (x, ẋ, mode, switches, flagged) per lane at ``t_end``; raises RuntimeError

@@ -139,7 +139,7 @@ def run_ranges(
     per_task: int | None = None,
     interruptible: bool = True,
     stop: np.ndarray | None = None,
-    on_done: Callable[[int], None] | None = None,
+    on_done: Callable[[float], None] | None = None,
 ) -> None:
     """``kernel(lo, hi, *args)`` on consecutive ranges of at most ``per_task`` items that
     cover [0, n_items) (default: about RANGES_PER_THREAD ranges per thread; 1 where
@@ -155,9 +155,12 @@ def run_ranges(
     cannot be stopped from outside: a kernel that may run long takes a ``stop`` flag
     (:func:`stop_flag`, also among its ``args``), set here before the interrupt is raised,
     and returns at its next check of it; any other range runs to its end in the
-    background. ``on_done(k)``, where given, is called after each range that ends
-    without error, with its k items, from the thread that ran it (so it must be
-    thread-safe): a caller's progress. That hand-off costs ~0.1 ms a call: a caller
+    background. ``on_done(k)``, where given, is told of the k items done since its last
+    call: a caller's progress. Called from the main thread, with ``stop`` holding a
+    progress slot per item (:func:`stop_flag`), this thread tells it every POLL_S of the
+    slots' growth and of the ranges ended, k then a fraction; otherwise it is called after
+    each range that ends without error, with its items, from the thread that ran it (so
+    it must be thread-safe). That hand-off costs ~0.1 ms a call: a caller
     whose calls are short and many (an analysis's per-orbit work, milliseconds each)
     passes ``interruptible=False``, and this thread then takes its share of the ranges,
     as it does from another thread (a Dask worker), and runs them all itself on one

@@ -12,8 +12,8 @@ from microslip.simulation import DEFAULT_RK4_STEPS_PER_PERIOD, initial_state_fro
 from microslip.sweeps.kernel_choice import repeats_from_rest, time_kernel
 from microslip.sweeps.spec import ChunkKey, SweepSpec
 
-# A caller's progress: called with the fraction [1] of the work of a compute call just
-# done (a time run's set-ups as they end, from the threads that ran them).
+# A caller's progress: called with the fraction [1] of the work of a compute call done
+# since the last call (a time run's set-ups as they advance: threads.run_ranges' on_done).
 Progress = Callable[[float], None]
 
 
@@ -28,7 +28,7 @@ def compute_chunk(spec: SweepSpec, key: ChunkKey, progress: Progress | None = No
     motion per amplitude, shared by every force.
     Each point is computed independently of the chunking, so results are bit-identical
     however the sweep is split or distributed. ``progress``, where given, hears of a time
-    run's set-ups as they end on the CPU (:data:`Progress`).
+    run's set-ups as they advance on the CPU (:data:`Progress`).
     """
     if spec.forced:
         return forced_chunk(spec, key, progress)
@@ -220,13 +220,13 @@ def _shared_run(models, normal0, forces, duration, dt, backend="cpu", on_done=No
     # Lanes by set-up (stably), each row's forces with its own friction coefficients.
     rows = np.argsort(setup_of_row, kind="stable")
     groups = np.repeat(setup_of_row[rows], forces.size)
-    lane_forces, mu_s, mu_k = _lane_arrays([models[r] for r in rows], forces)
+    lane_forces, mu_s, mu_k = _lane_arrays(coeffs[rows], forces)
     on_done = _per_row(on_done, len(models), setups.size)
     setup = (coeffs[setups], normal0[setups])
     kernel = time_kernel(models[0])
     if kernel == "mindlin":
-        x = _mindlin_run(models, rows, setups, groups, normal0, periods, forces, mu_s, mu_k,
-                         coeffs, duration, dt, backend, on_done)  # fmt: skip
+        x = _mindlin_run(models, rows, setups, groups, normal0, periods, forces, lane_forces,
+                         mu_s, mu_k, coeffs, duration, dt, backend, on_done)  # fmt: skip
     elif kernel == "spring":
         stiffness = [models[r].tangential.stiffness for r in setups]
         if backend == "cuda":
@@ -282,18 +282,18 @@ def _per_row(on_done, n_rows: int, n_setups: int):
     return lambda count: on_done(count * n_rows / n_setups)
 
 
-def _lane_arrays(models, forces):
-    """(force [N], μ_s [-], μ_k [-]) of every lane of the given rows' models, each under
-    every force, row-major. The coefficients are those the model's friction law packs
-    (Coulomb: μ for both; StaticKinetic: its own)."""
-    packed = np.array([model.pack(0.0)[[MU_STATIC, MU]] for model in models])
-    mu_static = np.repeat(packed[:, 0], forces.size)
-    mu_kinetic = np.repeat(packed[:, 1], forces.size)
-    return np.tile(forces, len(models)), mu_static, mu_kinetic
+def _lane_arrays(coeffs, forces):
+    """(force [N], μ_s [-], μ_k [-]) of every lane of rows of coefficient vectors
+    ``coeffs`` (each row's model packed, :func:`_normal_setups`), each under every force,
+    row-major. The coefficients are those the model's friction law packs (Coulomb: μ for
+    both; StaticKinetic: its own)."""
+    mu_static = np.repeat(coeffs[:, MU_STATIC], forces.size)
+    mu_kinetic = np.repeat(coeffs[:, MU], forces.size)
+    return np.tile(forces, coeffs.shape[0]), mu_static, mu_kinetic
 
 
-def _mindlin_run(models, rows, setups, groups, normal0, periods, forces, mu_s, mu_k, coeffs,
-                 duration, dt, backend, on_done=None):  # fmt: skip
+def _mindlin_run(models, rows, setups, groups, normal0, periods, forces, lane_forces, mu_s,
+                 mu_k, coeffs, duration, dt, backend, on_done=None):  # fmt: skip
     """x(duration) [m] of the Mindlin lanes of :func:`_shared_run` (lanes in its order:
     ``rows`` by set-up, each under every force).
 
@@ -317,7 +317,6 @@ def _mindlin_run(models, rows, setups, groups, normal0, periods, forces, mu_s, m
 
         run = partial(run_mindlin_lanes, on_done=on_done)
     ratio = [models[r].tangential.ratio for r in setups]
-    lane_forces = np.tile(forces, len(rows))
     try:
         return run(coeffs[setups], normal0[setups], ratio, groups, lane_forces, mu_s, mu_k,
                    duration, dt, periods=periods[setups])[0]  # fmt: skip
