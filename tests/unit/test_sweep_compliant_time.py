@@ -204,3 +204,24 @@ def test_the_estimate_counts_rough_set_ups_that_may_leave_contact_on_the_batched
     in_contact = seconds(np.array([0.2, 0.4, 0.6, 0.8]) * y0)
     with_flights = seconds(np.array([0.2, 0.4, 1.2, 1.6]) * y0)
     assert with_flights > 10.0 * in_contact
+
+
+def test_the_batched_estimate_counts_whole_blocks_a_round_of_threads_at_a_time(monkeypatch):
+    """The batched kernel runs a chunk's handed-back lanes in blocks of DEFAULT_BLOCK, the
+    last one padded (its copies cost as much as lanes), a block per thread: 16 lanes cost
+    what a whole block does, on one thread; on two threads 128 lanes cost what 64 do, 129
+    what 192 do (three blocks: two rounds)."""
+    from microslip.integrators.batched import DEFAULT_BLOCK
+    from microslip.sweeps import cost
+
+    monkeypatch.setattr(cost, "batch_threads", lambda: 2)
+    steps = 1000.0
+
+    def per_thread(lanes):
+        return cost.batched_lane_steps(lanes * steps, run_lanes=lanes)
+
+    assert DEFAULT_BLOCK == 64
+    assert per_thread(16) == per_thread(64) == 64 * steps
+    assert per_thread(128) == per_thread(64)
+    assert per_thread(129) == per_thread(192) == per_thread(256) == 2 * 64 * steps
+    assert cost.batched_lane_steps(256 * steps) == 128 * steps  # runs not known: even

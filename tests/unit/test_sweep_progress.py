@@ -128,3 +128,45 @@ def test_a_single_long_set_up_reports_progress_before_it_ends(kind, monkeypatch)
     assert all(step > 0.0 for step in told)
     assert sum(told) == pytest.approx(1.0)
     assert told[0] < 1.0
+
+
+def _marks_item_1(lo, hi, stop):
+    """A range kernel that gives up item 1 (threads.hand_back) and finishes the rest."""
+    for item in range(lo, hi):
+        if item == 1:
+            threads.hand_back(stop, item)
+
+
+@pytest.mark.parametrize("watched", [True, False], ids=["polled", "range-ends"])
+def test_an_item_handed_back_is_not_counted_done(watched):
+    """run_ranges counts an ended range's items done but those its kernel handed back,
+    whether it polls the slots (main thread) or tells each range as it ends."""
+    stop = threads.stop_flag(4)
+    lock = threading.Lock()
+    told = []
+
+    def on_done(k):
+        with lock:
+            told.append(k)
+
+    threads.run_ranges(_marks_item_1, 4, stop, per_task=1, stop=stop, on_done=on_done,
+                       interruptible=watched)  # fmt: skip
+    assert sum(told) == pytest.approx(3.0)
+
+
+def test_a_set_up_handed_back_reports_the_batched_run(monkeypatch):
+    """A Hertz Mindlin set-up that leaves contact (m2 = 1.5, A > y0) is handed back by the
+    lanes and runs on the batched RK4 kernel, ~100 times their cost: the bar moves while
+    it runs (each block's share of the grid, polled), and the reports add up to the
+    chunk, the set-up that stays on the lanes (A < y0) included, never going back."""
+    monkeypatch.setattr(threads, "POLL_S", 0.01)
+    model = ms.Model(ms.Parameters(m2=1.5), tangential=ms.MindlinSpring(0.8235))
+    y0 = model.params.static_deflection
+    spec = SweepSpec.build(model, None, np.linspace(0.1, 0.9, 16), [0.5 * y0, 1.4 * y0],
+                           method="time", duration=0.005, amplitude_chunk=2)  # fmt: skip
+    fractions = []
+    with_progress = compute_chunk(spec, (0,), fractions.append)
+    assert len(fractions) >= 4, fractions  # not only the lanes' end and the batch's
+    assert all(f > 0.0 for f in fractions)
+    assert sum(fractions) == pytest.approx(1.0)
+    assert np.array_equal(with_progress, compute_chunk(spec, (0,)))  # the same bits

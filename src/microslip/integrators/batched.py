@@ -60,6 +60,7 @@ a vectorised lane-step.
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
@@ -87,6 +88,9 @@ from microslip.model.system import N_STATE, X, slip_directions, state_tuple
 __all__ = ["DEFAULT_BLOCK", "BatchResult", "simulate_batch", "time_grid"]
 
 DEFAULT_BLOCK = 64
+# Steps between a block's progress reports (threads.report): a store each, rare enough
+# that the threads' slots, side by side in one array, do not bounce between the cores.
+REPORT_STEPS = 256
 
 # Lane status.
 LANE_OK = 0
@@ -166,7 +170,8 @@ def _run_blocks(b_lo, b_hi, coeffs, states, directions, times, switches, flagged
                 dt, block, stop):  # fmt: skip
     """Integrate blocks [b_lo, b_hi) of ``block`` lanes over ``grid`` (in place, rows =
     lanes; a range of :func:`threads.run_ranges`, which returns at the next step once
-    ``stop[0]`` is set: :func:`threads.stop_flag`)."""
+    ``stop[0]`` is set: :func:`threads.stop_flag`, and reports each block's share of the
+    grid done in its progress slot every REPORT_STEPS steps)."""
     for b in range(b_lo, b_hi):
         lo = b * block
         # A block-local copy: row views of it touch no memory shared between threads
@@ -239,6 +244,8 @@ def _run_blocks(b_lo, b_hi, coeffs, states, directions, times, switches, flagged
                         lane_status[i] = LANE_STALLED
                         buf[pp._T, i] = t_lane
             t_prev = target
+            if k % REPORT_STEPS == REPORT_STEPS - 1:
+                threads.report(stop, b, (k + 1) / grid.shape[0])
         for i in range(block):
             for j in range(N_STATE):
                 states[lo + i, j] = buf[pp._S + j, i]
@@ -292,6 +299,7 @@ def simulate_batch(
     dt: float,
     *,
     block: int = DEFAULT_BLOCK,
+    on_done: Callable[[float], None] | None = None,
 ) -> BatchResult:
     """Integrate many trajectories with RK4 on the grid k·dt and located switching.
 
@@ -309,6 +317,9 @@ def simulate_batch(
     block : int
         Lanes per vector block (a multiple of 8 keeps the vector loop free of
         remainders). Results do not depend on it.
+    on_done : callable, optional
+        Progress: told the fraction [1] of the batch done since its last call, as the
+        blocks advance (:func:`threads.run_ranges`).
 
     Each trajectory gets the state that the single-trajectory RK4 kernel
     (``simulate(method="rk4", dt=dt)``) reaches at ``t_end`` (bit for bit: both run the
@@ -358,10 +369,12 @@ def simulate_batch(
     switches = np.empty(n_pad, dtype=np.int64)
     flagged = np.empty(n_pad, dtype=np.int64)
     status = np.empty(n_pad, dtype=np.int64)
-    stop = threads.stop_flag()
+    n_blocks = n_pad // block
+    stop = threads.stop_flag(n_blocks)
+    told = None if on_done is None else (lambda blocks: on_done(blocks / n_blocks))
     threads.run_ranges(
-        _run_blocks, n_pad // block, lane_coeffs, states, directions, times, switches, flagged,
-        status, grid, dt, block, stop, per_task=1, stop=stop,
+        _run_blocks, n_blocks, lane_coeffs, states, directions, times, switches, flagged,
+        status, grid, dt, block, stop, per_task=1, stop=stop, on_done=told,
     )  # fmt: skip
     states, directions, times = states[:n], directions[:n], times[:n]
     switches, flagged, status = switches[:n], flagged[:n], status[:n]

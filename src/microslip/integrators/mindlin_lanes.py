@@ -288,7 +288,7 @@ def _run_rows(lanes, rows, lo, hi, pieces, cached, coarse, laws, flying, switche
 def _run_groups(g_lo, g_hi, normal_c, y0, ydot0, ratio, cycles, offsets, shapes, starts, lanes,
                 switches, flagged, status, t_end, dt, stop):  # fmt: skip
     """Set-ups [g_lo, g_hi) and their lanes, in place (a range of :func:`threads.run_ranges`,
-    ``stop`` its flag)."""
+    ``stop`` its flag, where a set-up handed back is marked: :func:`threads.hand_back`)."""
     for g in range(g_lo, g_hi):
         lo, hi = starts[g], starts[g + 1]
         group_lanes, group_switches, group_flagged = take_group(lanes, lo, hi)
@@ -297,6 +297,8 @@ def _run_groups(g_lo, g_hi, normal_c, y0, ydot0, ratio, cycles, offsets, shapes,
             normal_c[g].copy(), y0[g], ydot0[g], ratio[g], cycle, shape, t_end, dt,
             group_lanes, group_switches, group_flagged, stop, g,
         )  # fmt: skip
+        if status[g] == LANE_STALLED or status[g] == LEFT_ROUGH_CONTACT:  # HANDED_BACK
+            threads.hand_back(stop, g)  # its progress is the batched run's (caller)
         put_group(lanes, switches, flagged, lo, group_lanes, group_switches, group_flagged)
 
 

@@ -42,7 +42,15 @@ from numba import njit
 
 from microslip import _jit_cache  # noqa: F401  (registers the cache before any @njit)
 
-__all__ = ["PROGRESS_SCALE", "report", "run_ranges", "stop_flag", "thread_count"]
+__all__ = [
+    "HANDED_BACK",
+    "PROGRESS_SCALE",
+    "hand_back",
+    "report",
+    "run_ranges",
+    "stop_flag",
+    "thread_count",
+]
 
 
 def thread_count() -> int:
@@ -111,11 +119,13 @@ def stop_flag(n_items: int = 0) -> np.ndarray:
 
     With ``n_items``, one progress slot per item follows: a long item g may write the
     fraction of it done as ``stop[1 + g]`` = fraction x PROGRESS_SCALE (:func:`report`),
-    and :func:`run_ranges` tells its ``on_done`` of those fractions as they grow."""
+    and :func:`run_ranges` tells its ``on_done`` of those fractions as they grow. An
+    item its kernel gives up on is marked there (:func:`hand_back`)."""
     return np.zeros(1 + n_items, dtype=np.int64)
 
 
 PROGRESS_SCALE = 1 << 20  # a progress slot's value for a whole item
+HANDED_BACK = -1  # a progress slot's mark: the kernel gave the item up (hand_back)
 POLL_S = 0.5  # how often run_ranges reads the progress slots [s]
 
 
@@ -125,6 +135,23 @@ def report(stop, item, fraction):
     (:func:`stop_flag`), where it has one."""
     if 1 + item < stop.size:
         stop[1 + item] = int(min(max(fraction, 0.0), 1.0) * PROGRESS_SCALE)
+
+
+@njit(cache=True, nogil=True)
+def hand_back(stop, item):
+    """Mark ``item`` of ``stop`` (:func:`stop_flag`) as handed back, where it has a slot:
+    its kernel gave it up, and its caller runs it again on another kernel, which then
+    tells of that work. The end of its range does not count it done (the progress it
+    reported before stays told)."""
+    if 1 + item < stop.size:
+        stop[1 + item] = HANDED_BACK
+
+
+def _done_in(stop: np.ndarray | None, n_items: int, lo: int, hi: int) -> int:
+    """Items of the ended range [lo, hi) that count as done: all but those handed back."""
+    if stop is None or stop.size <= n_items:
+        return hi - lo
+    return hi - lo - int(np.count_nonzero(stop[1 + lo : 1 + hi] == HANDED_BACK))
 
 
 # Ranges per thread when the items are cheap and many: enough for the threads to even out
@@ -160,7 +187,8 @@ def run_ranges(
     progress slot per item (:func:`stop_flag`), this thread tells it every POLL_S of the
     slots' growth and of the ranges ended, k then a fraction; otherwise it is called after
     each range that ends without error, with its items, from the thread that ran it (so
-    it must be thread-safe). That hand-off costs ~0.1 ms a call: a caller
+    it must be thread-safe). Either way an item handed back (:func:`hand_back`) does not
+    count as done. That hand-off costs ~0.1 ms a call: a caller
     whose calls are short and many (an analysis's per-orbit work, milliseconds each)
     passes ``interruptible=False``, and this thread then takes its share of the ranges,
     as it does from another thread (a Dask worker), and runs them all itself on one
@@ -176,7 +204,7 @@ def run_ranges(
         for lo, hi in ranges:
             kernel(lo, hi, *args)
             if on_done is not None:
-                on_done(hi - lo)
+                on_done(_done_in(stop, n_items, lo, hi))
         return
     lock = threading.Lock()
     pending = iter(ranges)
@@ -202,7 +230,7 @@ def run_ranges(
                 with lock:
                     ended.append(item)
             elif on_done is not None:
-                on_done(item[1] - item[0])
+                on_done(_done_in(stop, n_items, *item))
 
     if not on_main:
         # A worker's call (Dask), where no signal comes, or short calls: the caller
@@ -239,16 +267,18 @@ def run_ranges(
 def _watch(helpers, stop, n_items, ended, lock, on_done) -> None:
     """Until the helpers end, tell ``on_done`` every POLL_S of the items' progress since
     the last call: the fractions in their slots of ``stop`` (:func:`report`), 1 for each
-    item of a range in ``ended``."""
+    item of a range in ``ended`` but one handed back (:func:`hand_back`), which keeps the
+    fraction it reached."""
     level = np.zeros(n_items)
     told = 0.0
     while True:
         running = futures.wait(helpers, timeout=POLL_S).not_done
         with lock:
             finished, ended[:] = list(ended), []
-        np.maximum(level, stop[1 : 1 + n_items] / PROGRESS_SCALE, out=level)
+        slots = stop[1 : 1 + n_items]
+        np.maximum(level, slots / PROGRESS_SCALE, out=level)
         for lo, hi in finished:
-            level[lo:hi] = 1.0
+            level[lo:hi] = np.where(slots[lo:hi] == HANDED_BACK, level[lo:hi], 1.0)
         total = float(level.sum())
         if total > told:
             on_done(total - told)

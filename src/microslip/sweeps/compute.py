@@ -305,9 +305,14 @@ def _mindlin_run(models, rows, setups, groups, normal0, periods, forces, lane_fo
     touchdown) and one that leaves contact at a contact exponent outside
     :func:`~microslip.integrators.mindlin_lanes.supports_exponent`, whose stiffness
     k_t ∝ δ^(m2-1) is rough at touchdown (docs/theory/numerics.md, "Lanes on a Mindlin
-    spring")."""
+    spring").
+
+    ``on_done`` (set-ups) hears of the lanes' progress, a set-up handed back counting
+    only for what it reached (:func:`~microslip.integrators.threads.hand_back`), then of
+    the batched run's, as the rest of the whole."""
     from microslip.integrators.shared_lanes import LaneStalledError
 
+    told = None if on_done is None else _Counted(on_done)
     if backend == "cuda":
         from microslip.integrators.mindlin_lanes_cuda import run_mindlin_lanes_cuda as run
     else:
@@ -315,7 +320,7 @@ def _mindlin_run(models, rows, setups, groups, normal0, periods, forces, lane_fo
 
         from microslip.integrators.mindlin_lanes import run_mindlin_lanes
 
-        run = partial(run_mindlin_lanes, on_done=on_done)
+        run = partial(run_mindlin_lanes, on_done=told)
     ratio = [models[r].tangential.ratio for r in setups]
     try:
         return run(coeffs[setups], normal0[setups], ratio, groups, lane_forces, mu_s, mu_k,
@@ -327,16 +332,35 @@ def _mindlin_run(models, rows, setups, groups, normal0, periods, forces, lane_fo
     back = np.flatnonzero(np.isin(groups.reshape(len(rows), forces.size)[:, 0], stalled))
     states0 = np.zeros((back.size * forces.size, 4))
     states0[:, :2] = np.repeat(normal0[rows[back]], forces.size, axis=0)
-    batch = _batched_run([models[r] for r in rows[back]], forces, duration, dt, states0)
+    share = None
+    if told is not None:  # the rest of the whole: the handed-back set-ups' share
+        rest = setups.size - told.total
+        share = lambda part: told(part * rest)  # noqa: E731
+    batch = _batched_run([models[r] for r in rows[back]], forces, duration, dt, states0,
+                         on_done=share)  # fmt: skip
     x = x.reshape(len(rows), forces.size)
     x[back] = batch.states[:, 2].reshape(back.size, forces.size)
     return x.ravel()
 
 
-def _batched_run(models, forces, duration, dt, states0=None):
+class _Counted:
+    """A progress callback that adds up what it is told, from any thread."""
+
+    def __init__(self, on_done: Callable[[float], None]) -> None:
+        import threading
+
+        self.on_done, self.total, self._lock = on_done, 0.0, threading.Lock()
+
+    def __call__(self, amount: float) -> None:
+        with self._lock:
+            self.total += amount
+        self.on_done(amount)
+
+
+def _batched_run(models, forces, duration, dt, states0=None, on_done=None):
     """The batched RK4 run (:class:`~microslip.integrators.batched.BatchResult`) of step
     ``dt`` [s], one lane per (model, force [N]), model-major, from ``states0`` at t = 0
-    (default: rest at y0, a relaxed spring).
+    (default: rest at y0, a relaxed spring); ``on_done`` told the fraction [1] of it done.
 
     ``duration`` must be a whole number of excitation periods when ``states0`` continues
     an earlier run (the excitation restarts at phase 0)."""
@@ -348,4 +372,4 @@ def _batched_run(models, forces, duration, dt, states0=None):
         states0 = np.zeros((coeffs.shape[0], 4))
         states0[:, 0] = np.repeat([model.params.static_deflection for model in models],
                                   forces.size)  # fmt: skip
-    return simulate_batch(coeffs, states0, duration, dt)
+    return simulate_batch(coeffs, states0, duration, dt, on_done=on_done)

@@ -5,12 +5,14 @@ development machine; :mod:`microslip.budget` refuses what exceeds its limits, an
 
 from __future__ import annotations
 
+import math
 import os
 
 from microslip.budget import Estimate
+from microslip.integrators.batched import DEFAULT_BLOCK
 from microslip.integrators.threads import thread_count
 
-__all__ = ["batch_threads", "estimate_sweep", "shared_chunk_rounds"]
+__all__ = ["batch_threads", "batched_lane_steps", "estimate_sweep", "shared_chunk_rounds"]
 
 # -- measured rates ------------------------------------------------------------------------
 # Measured 2026-11-23 with the rates of microslip.budget (compute_chunk() on 256 x 256,
@@ -54,10 +56,15 @@ TIME_S_PER_CYCLE = 0.15e-3
 TAPE_BYTES = 2048 * 21 * 8 + 4096
 # The set-ups of a "time" sweep that the Mindlin lanes hand back
 # (microslip.integrators.batched): every lane-step is the generic RK4 step with the
-# model's switching, the lanes in blocks over the threads. Measured 2026-11-26, 64 forces
-# x 16 set-ups, 0.02 s, 2 threads: 0.42 us per lane-step per thread (TangentialSpring,
-# free vibration), 1.34 us (MindlinSpring, Viscous + HarmonicForce); rounded up ~3x.
-BATCHED_S_PER_LANE_STEP = 4e-6
+# model's switching, the lanes in blocks of DEFAULT_BLOCK over the threads, a run's last
+# block padded (its padding costs as much as its lanes). Measured 2026-11-26, 64 forces
+# x 16 set-ups, 0.02 s, 2 threads: 1.34 us per lane-step per thread (MindlinSpring,
+# Viscous + HarmonicForce). Re-measured 2026-11-27, m2 = 1.5, 512 lanes, 0.005 s, 2
+# threads: 0.54-0.67 us (free vibration, a flight and two graded switches a period),
+# 1.00 us (Viscous + HarmonicForce, 4 N at 1200 Hz). Rounded up 1.5x. (Both were 4 us:
+# a 64 x 16 Hertz map with flights was estimated at 68 s and ran in 11.3 s.)
+BATCHED_S_PER_LANE_STEP = 1.5e-6  # a damped or forced normal motion
+BATCHED_FREE_S_PER_LANE_STEP = 1e-6  # a free vibration
 # "time" sweeps of a TangentialSpring (microslip.integrators.spring_lanes): the tapes as
 # above, each lane-step the contact point's closed forms. Measured 2026-11-26, 64 forces
 # x 16 amplitudes, 0.05 s, dt = 1/200 of the tangential period, 2 threads: 12 ns per
@@ -90,6 +97,18 @@ def batch_threads() -> int:
     return max(1, min(cpus, thread_count()))
 
 
+def batched_lane_steps(lane_steps: float, run_lanes: float = 0.0) -> float:
+    """Lane-steps per thread of ``lane_steps`` on the batched kernel, in runs of
+    ``run_lanes`` lanes (0: not known, the lanes spread evenly): each run's blocks of
+    DEFAULT_BLOCK lanes, the last one padded, a round of :func:`batch_threads` at a
+    time (a run of one block keeps one thread busy)."""
+    threads = batch_threads()
+    if run_lanes <= 0.0:
+        return lane_steps / threads
+    blocks = math.ceil(run_lanes / DEFAULT_BLOCK)
+    return lane_steps / run_lanes * math.ceil(blocks / threads) * DEFAULT_BLOCK
+
+
 def shared_chunk_rounds(setups: int, threads: int | None = None) -> int:
     """Set-up rounds of a "time" chunk with ``setups`` normal set-ups, ``threads`` at a
     time (default :func:`batch_threads`): each round integrates one tape per thread."""
@@ -112,6 +131,8 @@ def estimate_sweep(
     lane_fraction: float = 1.0,
     cycles: int = 0,
     n_chunks: int = 0,
+    run_lanes: float = 0.0,
+    free_vibration: bool = False,
 ) -> Estimate:
     """Work, run time [s] and memory [bytes] of a sweep.
 
@@ -122,7 +143,9 @@ def estimate_sweep(
     each round also advancing its ``n_forces`` lanes (``kernel="spring"``: a
     TangentialSpring's lanes; ``kernel="mindlin"``: a MindlinSpring's, whose set-up
     steps cost more); with ``kernel="batched"`` (the set-ups the Mindlin lanes hand back) from
-    ``lane_steps`` spread over the threads. Where a free vibration's tape repeats, a
+    ``lane_steps`` spread over the threads, in runs of ``run_lanes`` lanes (where given)
+    padded to whole blocks (:func:`batched_lane_steps`), at the rate of a
+    ``free_vibration`` or of a damped or forced one. Where a free vibration's tape repeats, a
     round costs ``tape_fraction`` and ``lane_fraction`` of the shared-normal kernels'
     tape and lane work (:data:`PARKED_LANE_PERIODS`), each of its ``cycles`` set-ups
     :data:`TIME_S_PER_CYCLE`; each of ``n_chunks`` time chunks adds
@@ -139,7 +162,8 @@ def estimate_sweep(
         buffers = 8 * chunk_points + STEADY_TABLES_HELD * STEADY_BYTES_PER_AMPLITUDE
         work, unit = points, "points"
     elif kernel == "batched":
-        seconds = lane_steps * BATCHED_S_PER_LANE_STEP / batch_threads()
+        rate = BATCHED_FREE_S_PER_LANE_STEP if free_vibration else BATCHED_S_PER_LANE_STEP
+        seconds = batched_lane_steps(lane_steps, run_lanes) * rate
         buffers = BATCH_BYTES_PER_LANE * chunk_points
         work, unit = lane_steps, "trajectory-steps"
     else:

@@ -165,11 +165,14 @@ def estimate_work(
     handed_back = rough_setups(model, param_axes, amplitudes) if method == "time" else 0.0
     if handed_back > 0.0:
         # Set-ups that may leave contact at a rough exponent are handed back to the
-        # batched kernel: counted there too, on top of the lanes (an upper bound).
+        # batched kernel: counted there too, on top of the lanes (an upper bound), a
+        # batched run per chunk (a forced chunk is one set-up).
+        run_setups = min(amplitude_chunk, n_amplitudes) * handed_back
         batched = cost.estimate_sweep(
             method=method, n_sets=n_sets, n_forces=n_forces, n_amplitudes=n_amplitudes,
             lane_steps=lane_steps * handed_back, chunk_points=n_forces * amplitude_chunk,
-            axis_values=values, kernel="batched",
+            axis_values=values, kernel="batched", run_lanes=max(1.0, run_setups * n_forces),
+            free_vibration=model.damping is None and model.excitation is None,
         )  # fmt: skip
     estimate = cost.estimate_sweep(
         method=method,
