@@ -225,3 +225,56 @@ def test_the_batched_estimate_counts_whole_blocks_a_round_of_threads_at_a_time(m
     assert per_thread(128) == per_thread(64)
     assert per_thread(129) == per_thread(192) == per_thread(256) == 2 * 64 * steps
     assert cost.batched_lane_steps(256 * steps) == 128 * steps  # runs not known: even
+
+
+@pytest.mark.parametrize("amplitude", [4.0, 10.0, 40.0])
+def test_leaves_contact_agrees_with_the_event_method(amplitude):
+    """The probe of a forced normal motion (its tape, integrated as the Mindlin lanes
+    would) leaves contact exactly where the event method, a separate integration,
+    reports a loss of contact within the run."""
+    from microslip.integrators.mindlin_lanes import leaves_contact
+    from microslip.integrators.normal_tape import normal_coefficients
+    from microslip.model.system import EVENT_NAMES
+
+    model = ms.Model(ms.Parameters(m2=1.5), damping=ms.Viscous(0.05),
+                     excitation=ms.HarmonicForce(amplitude, 1200.0))  # fmt: skip
+    y0 = model.params.static_deflection
+    dt = shortest_period(model) / DEFAULT_RK4_STEPS_PER_PERIOD
+    probe = leaves_contact(normal_coefficients(model.pack(0.0)), y0, 0.0, 0.01, dt)
+    event = ms.simulate(model, force=0.1, duration=0.01)
+    lost = EVENT_NAMES.index("contact_lost") in set(event.event_kind.tolist())
+    assert probe == lost
+    assert lost == (amplitude > 4.0)  # both cases are met
+
+
+def test_a_forced_hertz_sweep_over_the_limit_is_estimated_on_the_set_ups_that_fly(
+    monkeypatch,
+):
+    """The bound counts every forced set-up of a rough exponent on the batched kernel.
+    Over the time limit, estimate_work integrates each set-up's normal motion instead:
+    excitation amplitudes that keep the contact are estimated on the lanes alone (what
+    the bound would refuse runs), those with flights on the batched kernel too."""
+    from microslip import budget
+    from microslip.sweeps import kernel_choice
+
+    model = ms.Model(
+        ms.Parameters(m2=1.5), tangential=ms.MindlinSpring(0.8235),
+        damping=ms.Viscous(0.05), excitation=ms.HarmonicForce(4.0, 1200.0),
+    )  # fmt: skip
+    forces = np.linspace(0.1, 0.9, 16)
+
+    def seconds(amplitudes):
+        axes = (("excitation.amplitude", tuple(amplitudes)),)
+        return kernel_choice.estimate_work(model, axes, forces.size, 1, "time", 0.01, None, 1,
+                                           forces, [math.nan]).seconds  # fmt: skip
+
+    in_contact, flying = [1.0, 2.0, 3.0, 4.0], [1.0, 2.0, 30.0, 40.0]
+    bound_in_contact, bound_flying = seconds(in_contact), seconds(flying)
+    assert bound_in_contact == bound_flying  # under the limit: the bound, every one flies
+    monkeypatch.setattr(budget, "TIME_LIMIT_S", 0.5 * bound_in_contact)
+    kernel_choice._flying_setups.cache_clear()
+    assert kernel_choice.flying_setups(model, (("excitation.amplitude", flying),), [math.nan],
+                                       0.01, None) == 0.5  # fmt: skip
+    lanes_alone = seconds(in_contact)
+    assert lanes_alone < 0.1 * bound_in_contact
+    assert lanes_alone < seconds(flying) < bound_flying

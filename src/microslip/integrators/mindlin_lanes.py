@@ -212,6 +212,23 @@ def _has_flight(rows, n_rows):
 
 
 @njit(cache=True)
+def leaves_contact(c, y0, ydot0, t_end, dt):
+    """True when the normal motion in coefficients ``c``
+    (:func:`~microslip.integrators.normal_tape.normal_coefficients`) from (y0 [m],
+    ẏ0 [m/s]) at t = 0 has a tape row in flight before ``t_end`` [s], at the RK4 step
+    ``dt`` [s]: the test by which :func:`_run_group` hands back a set-up of a rough
+    exponent, without its lanes. A normal integration that fails counts as leaving (the
+    run reports it)."""
+    carry, tape, work = nt.tape_buffers(y0, ydot0)
+    while True:
+        rows, status = nt.fill_tape(carry, c, t_end, dt, tape, work)
+        if status > 1 or _has_flight(tape, rows):
+            return True
+        if status == 0:
+            return False
+
+
+@njit(cache=True)
 def _piece_table(table, rows, n_rows, laws, ratio):
     """Write the piece of each contact row r < ``n_rows`` of ``rows`` into table[r]
     (its set-up's slots and law.set_piece's; ``laws`` the coefficient tuple); returns the

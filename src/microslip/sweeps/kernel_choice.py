@@ -4,6 +4,8 @@ estimated from the sweep's sizes (:mod:`microslip.budget`)."""
 
 from __future__ import annotations
 
+import functools
+import itertools
 import math
 from typing import Any
 
@@ -99,6 +101,43 @@ def rough_setups(model: Model, param_axes, amplitudes) -> float:
     return float(np.mean(amplitudes >= model.params.static_deflection))
 
 
+def flying_setups(model: Model, param_axes, amplitudes, duration: float, dt) -> float:
+    """The fraction [1] of a rough-exponent Mindlin sweep's set-ups that leave contact,
+    and so run on the batched kernel, found set by set where :func:`rough_setups` bounds
+    it: of a free vibration those from rest at A >= y0 of their parameter set; of a
+    forced one those whose normal motion from rest at y0 has a flight within
+    ``duration`` [s], integrated at the sweep's step ``dt`` [s] (None: 1/200 of the
+    period to resolve) as the lanes would
+    (:func:`~microslip.integrators.mindlin_lanes.leaves_contact`). The sets of an
+    exponent the lanes run through flights count 0. Remembered for the last few sweeps
+    (a sweep is estimated when it is built and again when its budget is checked)."""
+    axes = tuple((name, tuple(float(v) for v in values)) for name, values in param_axes)
+    return _flying_setups(model, axes, tuple(float(a) for a in np.ravel(amplitudes)),
+                          float(duration), None if dt is None else float(dt))  # fmt: skip
+
+
+@functools.lru_cache(maxsize=8)
+def _flying_setups(model: Model, param_axes, amplitudes, duration: float, dt) -> float:
+    from microslip.integrators.mindlin_lanes import leaves_contact
+    from microslip.integrators.normal_tape import normal_coefficients
+
+    names = [name for name, _ in param_axes]
+    amplitudes = np.asarray(amplitudes, dtype=float)
+    flying = []
+    for values in itertools.product(*(values for _, values in param_axes)):
+        at = model.replace(**dict(zip(names, values, strict=True))) if names else model
+        y0 = at.params.static_deflection
+        if supports_exponent(at.params.m2):
+            flying.append(0.0)
+        elif at.excitation is None:
+            flying.append(float(np.mean(amplitudes >= y0)))
+        else:
+            step = budget.shortest_period(at) / DEFAULT_RK4_STEPS_PER_PERIOD if dt is None else dt
+            c = normal_coefficients(at.pack(0.0))
+            flying.append(1.0 if leaves_contact(c, y0, 0.0, duration, step) else 0.0)
+    return float(np.mean(flying))
+
+
 def checked_backend(backend: Any, model: Model, method: str, param_axes=()) -> str:
     """``backend`` if this sweep (of ``model`` over ``param_axes``) can run there, else
     ValueError in one line."""
@@ -113,6 +152,11 @@ def checked_backend(backend: Any, model: Model, method: str, param_axes=()) -> s
     if reason is not None:
         raise ValueError(f"backend='cuda': {reason}")
     return backend
+
+
+# The largest share of budget.TIME_LIMIT_S that estimate_work spends integrating normal
+# motions to see which set-ups leave contact (flying_setups).
+PROBE_SHARE = 0.02
 
 
 def estimate_work(
@@ -162,18 +206,6 @@ def estimate_work(
             min(amplitude_chunk, n_amplitudes), n_forces, cost.batch_threads()
         )
     values = n_forces + n_amplitudes + sum(len(v) for _, v in param_axes)
-    handed_back = rough_setups(model, param_axes, amplitudes) if method == "time" else 0.0
-    if handed_back > 0.0:
-        # Set-ups that may leave contact at a rough exponent are handed back to the
-        # batched kernel: counted there too, on top of the lanes (an upper bound), a
-        # batched run per chunk (a forced chunk is one set-up).
-        run_setups = min(amplitude_chunk, n_amplitudes) * handed_back
-        batched = cost.estimate_sweep(
-            method=method, n_sets=n_sets, n_forces=n_forces, n_amplitudes=n_amplitudes,
-            lane_steps=lane_steps * handed_back, chunk_points=n_forces * amplitude_chunk,
-            axis_values=values, kernel="batched", run_lanes=max(1.0, run_setups * n_forces),
-            free_vibration=model.damping is None and model.excitation is None,
-        )  # fmt: skip
     estimate = cost.estimate_sweep(
         method=method,
         n_sets=n_sets,
@@ -189,13 +221,41 @@ def estimate_work(
         cycles=cycles,
         n_chunks=n_chunks,
     )
-    if handed_back > 0.0:
-        # One after the other in each chunk: the times add, the memory is the larger.
+    if method != "time":
+        return estimate
+
+    def with_batched(handed_back: float) -> budget.Estimate:
+        """The estimate with the fraction ``handed_back`` of the set-ups also on the
+        batched kernel, a run per chunk of the set-ups it hands back (at least one; a
+        forced chunk is one set-up): one after the other in each chunk, the times add,
+        the memory is the larger."""
+        if handed_back <= 0.0:
+            return estimate
+        run_setups = max(1.0, min(amplitude_chunk, n_amplitudes) * handed_back)
+        batched = cost.estimate_sweep(
+            method=method, n_sets=n_sets, n_forces=n_forces, n_amplitudes=n_amplitudes,
+            lane_steps=lane_steps * handed_back, chunk_points=n_forces * amplitude_chunk,
+            axis_values=values, kernel="batched", run_lanes=run_setups * n_forces,
+            free_vibration=model.damping is None and model.excitation is None,
+        )  # fmt: skip
         return budget.Estimate(
             what=estimate.what, work=estimate.work, unit=estimate.unit,
             seconds=estimate.seconds + batched.seconds, bytes=max(estimate.bytes, batched.bytes),
         )  # fmt: skip
-    return estimate
+
+    # Set-ups that may leave contact at a rough exponent are handed back to the batched
+    # kernel: counted there too, on top of the lanes (an upper bound).
+    handed_back = rough_setups(model, param_axes, amplitudes)
+    bound = with_batched(handed_back)
+    if handed_back == 0.0 or bound.seconds <= budget.TIME_LIMIT_S or amplitudes is None:
+        return bound
+    # Over the limit on a bound that counts every forced set-up (and every one of a
+    # parameter axis) as leaving contact: find which do, where that costs no more than
+    # a share of the limit (a forced one's normal motions alone, a tape each).
+    probe_seconds = total_steps * cost.SHARED_S_PER_SETUP_STEP
+    if model.excitation is not None and probe_seconds > PROBE_SHARE * budget.TIME_LIMIT_S:
+        return bound
+    return with_batched(flying_setups(model, param_axes, amplitudes, duration, dt))
 
 
 def repeats_from_rest(model: Model, amplitude: float) -> bool:
