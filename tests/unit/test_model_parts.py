@@ -16,6 +16,7 @@ from microslip.model.normal import (
     normal_force_partials,
     normal_force_rate,
     raw_normal_force,
+    raw_normal_force_rate,
 )
 from microslip.model.parameters import Parameters
 
@@ -125,6 +126,27 @@ def test_partials_and_rate_match_finite_differences(model):
     ahead = normal_force(t + ht, y + v * ht, v + a * ht, c)
     behind = normal_force(t - ht, y - v * ht, v - a * ht, c)
     assert normal_force_rate(t, y, v, c) == pytest.approx((ahead - behind) / (2 * ht), rel=1e-5)
+
+
+@pytest.mark.parametrize("m2", [2.0, 1.5])
+def test_the_raw_rate_continues_past_a_separation_inside_the_overlap(m2):
+    """dN_raw/dt where a viscous N_raw < 0 at δ > 0 (fast unloading): N is clipped, its
+    rate 0, and the raw rate is the law's own, a finite difference of N_raw along the
+    motion; in contact both rates agree."""
+    c = Model(params=P.replace(m2=m2), damping=Viscous(0.3)).pack()
+    t, y, ht = 0.0, 0.2 * Y0, 1e-10
+    elastic = raw_normal_force(t, y, 0.0, c)  # S c_n δ^m2
+    damping = elastic - raw_normal_force(t, y, -1.0, c)  # c [N s/m]
+    v = -2.0 * elastic / damping  # N_raw = elastic + c v = -elastic
+    assert raw_normal_force(t, y, v, c) < 0.0 < y  # separated inside the overlap
+    a = normal_acceleration(t, y, v, c)
+    ahead = raw_normal_force(t + ht, y + v * ht, v + a * ht, c)
+    behind = raw_normal_force(t - ht, y - v * ht, v - a * ht, c)
+    assert raw_normal_force_rate(t, y, v, c) == pytest.approx((ahead - behind) / (2 * ht),
+                                                              rel=1e-5)  # fmt: skip
+    assert normal_force_rate(t, y, v, c) == 0.0
+    v_in = 1e-3  # loading: in contact
+    assert raw_normal_force_rate(t, y, v_in, c) == normal_force_rate(t, y, v_in, c) != 0.0
 
 
 def test_excitations_enter_the_normal_equation_with_their_signs():

@@ -63,3 +63,31 @@ def test_stiff_contact_through_touchdown():
     amplitude = 1.3 * Y0
     rigid = ms.mean_velocity(ms.Model(P), force=FORCE, amplitude=amplitude)
     assert compliant_mean_velocity(1e12, amplitude) == pytest.approx(rigid, rel=3e-3)
+
+
+@pytest.mark.parametrize("m2", [2.0, 1.5])
+def test_a_damped_forced_contact_that_separates_tends_to_the_rigid_one(m2):
+    """Viscous damping and a harmonic force of 1.2 m g: the contact is lost inside the
+    overlap (N_raw = 0 at δ > 0), at m2 = 1.5 while the contact point slides. There the
+    event method stopped with a step size underflow: past the root, inside a trial step,
+    slip's u̇ and ḟ took the flight values, a jump of ~Ṅ that no adaptive step passes.
+    Now they continue the raw law to the switch, and x(T)/T tends to the rigid model's
+    (whose damped, forced path is checked against scipy in
+    test_h1_damped_forced_vs_scipy.py) as k_t grows. Measured relative errors at
+    k_t = 1e9, 1e10, 1e11, 1e12 N/m: m2 = 2: 0.43, 0.026, 0.0086, 0.00047 (unchanged);
+    m2 = 1.5: 3.9, 0.21, 0.24, 0.0051 (the body's oscillation on the spring, excited at
+    each switch, is not monotone in k_t)."""
+    params = ms.Parameters(m2=m2)
+    parts = {"damping": ms.Viscous(0.05), "excitation": ms.HarmonicForce(12.0, 1200.0)}
+    duration, force = 0.01, 0.3
+    rigid = ms.simulate(ms.Model(params, **parts), force=force, duration=duration).x[-1]
+    errors, separations = [], []
+    for stiffness in [1e9, 1e12]:
+        model = ms.Model(params, tangential=ms.TangentialSpring(stiffness), **parts)
+        r = ms.simulate(model, force=force, duration=duration)
+        errors.append(abs(r.x[-1] / rigid - 1.0))
+        lost = r.event_kind == ms.integrators.EVENT_NAMES.index("contact_lost")
+        separations.append(np.count_nonzero(r.event_states[lost, 0] > 0.0))
+    assert min(separations) >= 5  # lost inside the overlap (δ = y > 0), every time
+    assert errors[1] < 1e-2, errors
+    assert errors[0] > 50.0 * errors[1], errors

@@ -118,11 +118,25 @@ def normal_force_partials(t, y, ydot, c):
 @njit(cache=True, error_model="numpy")
 def normal_force_rate(t, y, ydot, c):
     """dN/dt [N/s] along the motion (0 out of contact or while clipped)."""
+    return _force_rate(t, y, ydot, c, True)
+
+
+@njit(cache=True, error_model="numpy")
+def raw_normal_force_rate(t, y, ydot, c):
+    """dN_raw/dt [N/s] of the unclipped law while δ > 0 (0 for δ <= 0): dN/dt in
+    contact, continued smoothly past a separation inside the overlap (N_raw <= 0 with
+    δ > 0, a damped law), where N itself is clipped to 0."""
+    return _force_rate(t, y, ydot, c, False)
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def _force_rate(t, y, ydot, c, clipped):
+    """dN/dt [N/s], 0 for δ <= 0 and, where ``clipped``, while N_raw <= 0."""
     delta, delta_rate, third = gap(t, y, ydot, c)
     if delta <= 0.0:
         return 0.0
     elastic = elastic_force(delta, c)
-    if damped_force(elastic, delta_rate, c) <= 0.0:
+    if clipped and damped_force(elastic, delta_rate, c) <= 0.0:
         return 0.0
     d_delta, d_rate = damped_force_partials(elastic, elastic_stiffness(delta, c), delta_rate, c)
     if is_prescribed(c):

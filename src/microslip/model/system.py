@@ -65,6 +65,7 @@ from microslip.model.normal import (
     normal_acceleration,
     normal_force,
     normal_force_rate,
+    raw_normal_force_rate,
 )
 from microslip.model.tangential import is_compliant, tangential_stiffness
 
@@ -86,6 +87,7 @@ __all__ = [
     "normal_acceleration_call",
     "normal_force_call",
     "normal_force_rate_call",
+    "raw_normal_force_rate_call",
     "slip_directions",
     "state_tuple",
     "tangential_mode",
@@ -204,6 +206,13 @@ def normal_force_rate_call(t, y, ydot, c):
 
 
 @njit(cache=True, error_model="numpy")
+def raw_normal_force_rate_call(t, y, ydot, c):
+    """:func:`~microslip.model.normal.raw_normal_force_rate` [N/s] behind a compiled
+    call."""
+    return raw_normal_force_rate(t, y, ydot, c)
+
+
+@njit(cache=True, error_model="numpy")
 def normal_acceleration_call(t, y, ydot, c):
     """:func:`~microslip.model.normal.normal_acceleration` [m/s^2] behind a compiled call."""
     return normal_acceleration(t, y, ydot, c)
@@ -229,16 +238,26 @@ def contact_point_rates(t, s, mode, normal, c):
     u̇ = 0, ḟ = k_t ẋ (the incremental law, k_t = k_t(δ) for Mindlin). Slip in ``mode``:
     f = μ_k N mode stays on the limit, ḟ = μ_k Ṅ mode, and the spring's extension
     x - u follows it, u̇ = ẋ - ḟ / k_t.
+
+    Past a separation inside the overlap (δ > 0, a damped N_raw <= 0, N clipped to 0)
+    a contact mode keeps its law, with Ṅ the raw law's
+    (:func:`~microslip.model.normal.raw_normal_force_rate`): the rates stay smooth
+    through the SEPARATION root within a trial step, whose switch then ends the contact
+    (the flight rates there made slip's u̇ and ḟ jump by ~Ṅ, which an adaptive step's
+    error estimate cannot pass: a step size underflow at the root).
     """
     xdot = s[XDOT]
-    if normal <= 0.0 or abs(mode) == FLIGHT:
+    if abs(mode) == FLIGHT:
         return xdot, 0.0
     y = s[Y]
     ydot = s[YDOT]
-    stiffness = tangential_stiffness(gap(t, y, ydot, c)[0], c)
+    delta = gap(t, y, ydot, c)[0]
+    if normal <= 0.0 and delta <= 0.0:
+        return xdot, 0.0
+    stiffness = tangential_stiffness(delta, c)
     if mode == 0.0:
         return 0.0, stiffness * xdot
-    force_rate = mode * kinetic_coefficient(0.0, c) * normal_force_rate_call(t, y, ydot, c)
+    force_rate = mode * kinetic_coefficient(0.0, c) * raw_normal_force_rate_call(t, y, ydot, c)
     if stiffness <= 0.0:
         return xdot, force_rate
     return xdot - force_rate / stiffness, force_rate
