@@ -201,8 +201,12 @@ def run_mindlin_lanes_cuda(normal_coeffs, normal_states0, ratio, group_of_lane, 
             d_tapes, d_rows, d_coeffs, d_setups, d_pieces, d_coarse, d_rough
         )
 
+    left = []  # the marks, copied from the GPU once it is done (check, then statuses)
+
     def left_rough_contact():
-        return d_setups.copy_to_host()[:, S_LEFT] != 0.0
+        if not left:
+            left.append(d_setups.copy_to_host()[:, S_LEFT] != 0.0)
+        return left[0]
 
     def check():  # a set-up handed back is not checked (the CPU kernel stops at its flight)
         raise_if_too_coarse(d_coarse.copy_to_host() * ~left_rough_contact(), dt)
