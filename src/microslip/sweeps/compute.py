@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import threading
 from collections.abc import Callable
 
 import numpy as np
@@ -333,9 +334,12 @@ def _mindlin_run(models, rows, setups, groups, normal0, periods, forces, lane_fo
     states0 = np.zeros((back.size * forces.size, 4))
     states0[:, :2] = np.repeat(normal0[rows[back]], forces.size, axis=0)
     share = None
-    if told is not None:  # the rest of the whole: the handed-back set-ups' share
-        rest = setups.size - told.total
-        share = lambda part: told(part * rest)  # noqa: E731
+    if told is not None:
+        rest = setups.size - told.total  # the handed-back set-ups' share of the whole
+
+        def share(part: float) -> None:
+            told(part * rest)
+
     batch = _batched_run([models[r] for r in rows[back]], forces, duration, dt, states0,
                          on_done=share)  # fmt: skip
     x = x.reshape(len(rows), forces.size)
@@ -347,8 +351,6 @@ class _Counted:
     """A progress callback that adds up what it is told, from any thread."""
 
     def __init__(self, on_done: Callable[[float], None]) -> None:
-        import threading
-
         self.on_done, self.total, self._lock = on_done, 0.0, threading.Lock()
 
     def __call__(self, amount: float) -> None:
