@@ -85,9 +85,10 @@ from microslip.model.switches import apply_switch, initial_mode
 from microslip.model.switching_functions import graded_switch
 from microslip.model.system import N_STATE, X, slip_directions, state_tuple
 
-__all__ = ["DEFAULT_BLOCK", "BatchResult", "simulate_batch", "time_grid"]
+__all__ = ["DEFAULT_BLOCK", "BatchResult", "block_for", "simulate_batch", "time_grid"]
 
 DEFAULT_BLOCK = 64
+MIN_BLOCK = 8  # lanes: a vector loop free of remainders (8 doubles of AVX-512)
 # Steps between a block's progress reports (threads.report): a store each, rare enough
 # that the threads' slots, side by side in one array, do not bounce between the cores.
 REPORT_STEPS = 256
@@ -254,6 +255,15 @@ def _run_blocks(b_lo, b_hi, coeffs, states, directions, times, switches, flagged
             switches[lo + i] = n_switch[i]
             flagged[lo + i] = n_flag[i]
             status[lo + i] = lane_status[i]
+
+
+def block_for(n_lanes: int, threads: int) -> int:
+    """Lanes per block of a run of ``n_lanes`` on ``threads``: DEFAULT_BLOCK, or fewer (a
+    multiple of MIN_BLOCK) where that gives every thread a block or pads a small run
+    less: a padded lane costs what a lane does, and a lane of a model other than the
+    paper's is stepped by the scalar loop whatever its block."""
+    per_thread = -(-int(n_lanes) // max(int(threads), 1))
+    return int(min(DEFAULT_BLOCK, max(MIN_BLOCK, -(-per_thread // MIN_BLOCK) * MIN_BLOCK)))
 
 
 @njit(cache=True)

@@ -30,6 +30,8 @@ the time sweep runs it on the batched RK4 kernel (:mod:`microslip.sweeps.compute
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 from numba import njit
 
@@ -288,6 +290,8 @@ def _run_rows(lanes, rows, lo, hi, pieces, cached, coarse, laws, flying, switche
                 break
             if lanes[FLAG, i] != 0.0:
                 n_flagged -= 1
+                if lanes[X, i] != lanes[X, i]:
+                    continue  # a lane that stalled (below): only flagged at a landing
                 flagged[i] += 1
                 xi, vi, fi, mi, k = law.lane_piece(
                     a, piece, lanes[FORCE, i], lanes[FM, i], lanes[KM, i],
@@ -295,7 +299,10 @@ def _run_rows(lanes, rows, lo, hi, pieces, cached, coarse, laws, flying, switche
                     lanes[FS, i], lanes[MODE, i],
                 )  # fmt: skip
                 if k < 0:
-                    return LANE_STALLED, flying
+                    # Handed back alone (run_mindlin_lanes): NaN from here on, which the
+                    # vector pass carries without a flag; the other lanes go on.
+                    lanes[X, i], lanes[V, i], lanes[FS, i] = math.nan, math.nan, math.nan
+                    continue
                 switches[i] += k
                 lanes[X, i], lanes[V, i], lanes[FS, i], lanes[MODE, i] = xi, vi, fi, mi
     return OK, flying
@@ -341,9 +348,11 @@ def run_mindlin_lanes(normal_coeffs, normal_states0, ratio, group_of_lane, force
     (mode 0 stick, ±1 slip, 2 flight). ValueError when dt is too coarse for the
     tangential oscillation (h sqrt(k_t/m) > 2 on a piece); RuntimeError if a normal
     integration fails; :class:`~microslip.integrators.shared_lanes.LaneStalledError`
-    naming the set-ups it hands back (a lane stalled, or a set-up of a contact exponent
-    outside :func:`supports_exponent` left contact: module doc), with these results,
-    complete for the other set-ups, as its ``partial``.
+    naming the set-ups it hands back (a set-up of a contact exponent outside
+    :func:`supports_exponent` left contact: module doc) and the lanes it hands back
+    alone (a lane stalled: more than MAX_SWITCHES_PER_STEP switches in a piece, at an
+    exact stick/slip tie; its x, ẋ and f are NaN, the other lanes of its set-up run to
+    the end), with these results, complete for the rest, as its ``partial``.
     """
     copies, normal_coeffs, states0, ratio, periods, lane_args = copied_setups(
         normal_coeffs, normal_states0, ratio, periods, group_of_lane, forces, mu_static,
@@ -366,10 +375,17 @@ def run_mindlin_lanes(normal_coeffs, normal_states0, ratio, group_of_lane, force
     results = tuple(
         copies.unorder(r) for r in (lanes[X], lanes[V], lanes[FS], lanes[MODE], switches, flagged)
     )
+    stalled = np.flatnonzero(np.isnan(results[0]))  # lanes handed back alone
     try:
         raise_on_failure(status, "Mindlin-lane kernel", HANDED_BACK)
+        if stalled.size:
+            raise LaneStalledError(
+                f"Mindlin-lane kernel: {stalled.size} lane(s) stalled, lane {stalled[0]} first",
+                np.zeros(0, dtype=np.int64),
+            )
     except LaneStalledError as error:
-        error.partial = results  # the other set-ups ran to the end: no need to rerun them
+        error.partial = results  # the rest ran to the end: no need to rerun it
+        error.lanes = stalled
         raise
     return results
 

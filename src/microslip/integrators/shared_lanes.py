@@ -48,11 +48,15 @@ class LaneStalledError(RuntimeError):
     (more than MAX_SWITCHES_PER_STEP switches in one piece) or, on the Mindlin lanes, a
     set-up left contact on a rough law (``mindlin_lanes.LEFT_ROUGH_CONTACT``);
     ``setups`` holds every such set-up; ``partial``, where the kernel sets it, its
-    results, complete for every other set-up (each depends on nothing else in the run)."""
+    results, complete for every other set-up (each depends on nothing else in the run).
+    ``lanes`` holds the lanes handed back alone, in the caller's order (the Mindlin lanes
+    hand back a lane that stalls and finish the others of its set-up; its results in
+    ``partial`` are NaN)."""
 
-    def __init__(self, message: str, setups: np.ndarray):
+    def __init__(self, message: str, setups: np.ndarray, lanes: np.ndarray | None = None):
         super().__init__(message)
         self.setups = setups
+        self.lanes = np.zeros(0, dtype=np.int64) if lanes is None else lanes
         self.partial: tuple | None = None
 
 

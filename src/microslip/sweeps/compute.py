@@ -298,15 +298,15 @@ def _mindlin_run(models, rows, setups, groups, normal0, periods, forces, lane_fo
     """x(duration) [m] of the Mindlin lanes of :func:`_shared_run` (lanes in its order:
     ``rows`` by set-up, each under every force).
 
-    A set-up the lanes hand back runs on the batched RK4 kernel instead, one trajectory
-    per (row, force) (``simulate(method="rk4")`` bit for bit); the other set-ups keep
-    their lanes' results (the CPU and GPU lanes both hand them on as the error's
-    ``partial``): each set-up's result still depends on nothing else in the run. The
-    lanes hand back a set-up where a lane stalls (an exact tie of stick and slip at a
-    touchdown) and one that leaves contact at a contact exponent outside
+    What the lanes hand back runs on the batched RK4 kernel instead, one trajectory per
+    lane (``simulate(method="rk4")`` bit for bit), the rest keeping the lanes' results
+    (the CPU and GPU lanes hand them on as the error's ``partial``): each lane's result
+    still depends on nothing else in the run. The lanes hand back a set-up that leaves
+    contact at a contact exponent outside
     :func:`~microslip.integrators.mindlin_lanes.supports_exponent`, whose stiffness
     k_t ∝ δ^(m2-1) is rough at touchdown (docs/theory/numerics.md, "Lanes on a Mindlin
-    spring").
+    spring"), and a lane that stalls (an exact tie of stick and slip at a touchdown):
+    the CPU lanes that lane alone, the GPU lanes its set-up.
 
     ``on_done`` (set-ups) hears of the lanes' progress, a set-up handed back counting
     only for what it reached (:func:`~microslip.integrators.threads.hand_back`), then of
@@ -327,24 +327,26 @@ def _mindlin_run(models, rows, setups, groups, normal0, periods, forces, lane_fo
         return run(coeffs[setups], normal0[setups], ratio, groups, lane_forces, mu_s, mu_k,
                    duration, dt, periods=periods[setups])[0]  # fmt: skip
     except LaneStalledError as error:
-        stalled, x = error.setups, np.array(error.partial[0])  # the rest ran to the end
-    # The rows of the handed-back set-ups in one batched run: blocks full of lanes,
-    # spread over the threads (a lane's bits do not depend on its block).
-    back = np.flatnonzero(np.isin(groups.reshape(len(rows), forces.size)[:, 0], stalled))
-    states0 = np.zeros((back.size * forces.size, 4))
-    states0[:, :2] = np.repeat(normal0[rows[back]], forces.size, axis=0)
+        x = np.array(error.partial[0])  # the rest ran to the end
+        back = np.isin(groups, error.setups)  # every lane of a set-up handed back
+        back[error.lanes] = True  # and those handed back alone
+    # In one batched run: blocks full of lanes, spread over the threads (a lane's bits
+    # do not depend on its block).
+    back = np.flatnonzero(back)
+    row_of = rows[back // forces.size]
+    states0 = np.zeros((back.size, 4))
+    states0[:, :2] = normal0[row_of]
     share = None
-    if told is not None:
+    if told is not None and setups.size > told.total:
         rest = setups.size - told.total  # the handed-back set-ups' share of the whole
 
         def share(part: float) -> None:
             told(part * rest)
 
-    batch = _batched_run([models[r] for r in rows[back]], forces, duration, dt, states0,
-                         on_done=share)  # fmt: skip
-    x = x.reshape(len(rows), forces.size)
-    x[back] = batch.states[:, 2].reshape(back.size, forces.size)
-    return x.ravel()
+    batch = _batched_lanes([models[r] for r in row_of], lane_forces[back], duration, dt,
+                           states0, on_done=share)  # fmt: skip
+    x[back] = batch.states[:, 2]
+    return x
 
 
 class _Counted:
@@ -366,12 +368,23 @@ def _batched_run(models, forces, duration, dt, states0=None, on_done=None):
 
     ``duration`` must be a whole number of excitation periods when ``states0`` continues
     an earlier run (the excitation restarts at phase 0)."""
-    from microslip.integrators.batched import simulate_batch
+    forces = np.asarray(forces, dtype=float)
+    lane_models = [model for model in models for _ in range(forces.size)]
+    return _batched_lanes(lane_models, np.tile(forces, len(models)), duration, dt, states0,
+                          on_done)  # fmt: skip
 
-    coeffs = np.repeat([model.pack(0.0) for model in models], forces.size, axis=0)
-    coeffs[:, FORCE] = np.tile(forces, len(models))
+
+def _batched_lanes(models, forces, duration, dt, states0=None, on_done=None):
+    """:func:`_batched_run` of one lane per (models[i], forces[i] [N]), in blocks that
+    spread the run over the threads (:func:`~microslip.integrators.batched.block_for`)."""
+    from microslip.integrators.batched import block_for, simulate_batch
+    from microslip.integrators.threads import thread_count
+
+    packed = {id(model): model.pack(0.0) for model in models}
+    coeffs = np.array([packed[id(model)] for model in models]).reshape(len(models), -1)
+    coeffs[:, FORCE] = forces
     if states0 is None:
         states0 = np.zeros((coeffs.shape[0], 4))
-        states0[:, 0] = np.repeat([model.params.static_deflection for model in models],
-                                  forces.size)  # fmt: skip
-    return simulate_batch(coeffs, states0, duration, dt, on_done=on_done)
+        states0[:, 0] = [model.params.static_deflection for model in models]
+    block = block_for(len(models), thread_count())
+    return simulate_batch(coeffs, states0, duration, dt, block=block, on_done=on_done)

@@ -9,7 +9,7 @@ import math
 import os
 
 from microslip.budget import Estimate
-from microslip.integrators.batched import DEFAULT_BLOCK
+from microslip.integrators.batched import block_for
 from microslip.integrators.threads import thread_count
 
 __all__ = ["batch_threads", "batched_lane_steps", "estimate_sweep", "shared_chunk_rounds"]
@@ -56,13 +56,14 @@ TIME_S_PER_CYCLE = 0.15e-3
 TAPE_BYTES = 2048 * 21 * 8 + 4096
 # The set-ups of a "time" sweep that the Mindlin lanes hand back
 # (microslip.integrators.batched): every lane-step is the generic RK4 step with the
-# model's switching, the lanes in blocks of DEFAULT_BLOCK over the threads, a run's last
-# block padded (its padding costs as much as its lanes). Measured 2026-11-26, 64 forces
-# x 16 set-ups, 0.02 s, 2 threads: 1.34 us per lane-step per thread (MindlinSpring,
-# Viscous + HarmonicForce). Re-measured 2026-11-27, m2 = 1.5, 512 lanes, 0.005 s, 2
-# threads: 0.54-0.67 us (free vibration, a flight and two graded switches a period),
-# 1.00 us (Viscous + HarmonicForce, 4 N at 1200 Hz). Rounded up 1.5x. (Both were 4 us:
-# a 64 x 16 Hertz map with flights was estimated at 68 s and ran in 11.3 s.)
+# model's switching, the lanes in blocks (integrators/batched.block_for) over the
+# threads, a run's last block padded (its padding costs as much as its lanes).
+# Measured 2026-11-26, 64 forces x 16 set-ups, 0.02 s, 2 threads: 1.34 us per lane-step
+# per thread (MindlinSpring, Viscous + HarmonicForce). Re-measured 2026-11-27, m2 = 1.5,
+# 512 lanes, 0.005 s, 2 threads: 0.54-0.67 us (free vibration, a flight and two graded
+# switches a period), 1.00 us (Viscous + HarmonicForce, 4 N at 1200 Hz). Rounded up
+# 1.5x. (Both were 4 us: a 64 x 16 Hertz map with flights was estimated at 68 s and ran
+# in 11.3 s.)
 BATCHED_S_PER_LANE_STEP = 1.5e-6  # a damped or forced normal motion
 BATCHED_FREE_S_PER_LANE_STEP = 1e-6  # a free vibration
 # "time" sweeps of a TangentialSpring (microslip.integrators.spring_lanes): the tapes as
@@ -100,13 +101,14 @@ def batch_threads() -> int:
 def batched_lane_steps(lane_steps: float, run_lanes: float = 0.0) -> float:
     """Lane-steps per thread of ``lane_steps`` on the batched kernel, in runs of
     ``run_lanes`` lanes (0: not known, the lanes spread evenly): each run's blocks of
-    DEFAULT_BLOCK lanes, the last one padded, a round of :func:`batch_threads` at a
-    time (a run of one block keeps one thread busy)."""
+    :func:`~microslip.integrators.batched.block_for` lanes, the last one padded, a round
+    of :func:`batch_threads` at a time."""
     threads = batch_threads()
     if run_lanes <= 0.0:
         return lane_steps / threads
-    blocks = math.ceil(run_lanes / DEFAULT_BLOCK)
-    return lane_steps / run_lanes * math.ceil(blocks / threads) * DEFAULT_BLOCK
+    block = block_for(math.ceil(run_lanes), threads)
+    blocks = math.ceil(run_lanes / block)
+    return lane_steps / run_lanes * math.ceil(blocks / threads) * block
 
 
 def shared_chunk_rounds(setups: int, threads: int | None = None) -> int:
