@@ -247,8 +247,7 @@ def test_leaves_contact_agrees_with_the_event_method(amplitude):
     """The probe of a forced normal motion (its tape, integrated as the Mindlin lanes
     would) leaves contact exactly where the event method, a separate integration,
     reports a loss of contact within the run."""
-    from microslip.integrators.mindlin_lanes import leaves_contact
-    from microslip.integrators.normal_tape import normal_coefficients
+    from microslip.integrators.normal_tape import leaves_contact, normal_coefficients
     from microslip.model.system import EVENT_NAMES
 
     model = ms.Model(ms.Parameters(m2=1.5), damping=ms.Viscous(0.05),

@@ -62,15 +62,16 @@ from microslip.integrators.spring_lanes import (
     V,
     X,
     copied_setups,
-    flight_piece,
     fly,
     pack_lanes,
     start_lanes,
 )
+from microslip.integrators.tape_row import flight_piece, has_flight
 from microslip.model.coefficients import EXPONENT, GRAVITY, MASS
 
 STEP_TOO_COARSE = 7  # a set-up's status: θ = h sqrt(k_t/m) > MAX_THETA on a piece
 LEFT_ROUGH_CONTACT = 8  # a set-up's status: a flight at an m2 outside supports_exponent
+# (LANE_STALLED: the GPU lanes hand back the set-up of a lane that stalls.)
 HANDED_BACK = {
     LANE_STALLED: "a lane stalled",
     LEFT_ROUGH_CONTACT: "the normal motion left contact on a law whose Mindlin stiffness is "
@@ -166,7 +167,7 @@ def _run_group(c, y0, ydot0, ratio, cycle, shape, t_end, dt, lanes, switches, fl
     if shape[0] > 0:
         period_rows, tail_rows, repeats, _period = shape
         total = period_rows + tail_rows
-        if not supports_exponent(laws[EXPONENT]) and _has_flight(cycle, total):
+        if not supports_exponent(laws[EXPONENT]) and has_flight(cycle, total):
             return LEFT_ROUGH_CONTACT  # before its pieces are written (module doc)
         table = np.zeros((total, law.PIECE))
         coarse = _piece_table(table, cycle, total, laws, ratio)
@@ -202,32 +203,6 @@ def _run_group(c, y0, ydot0, ratio, cycle, shape, t_end, dt, lanes, switches, fl
         threads.report(stop, item, carry[nt.C_T] / t_end)
         if tape_status == 0:
             return OK
-
-
-@njit(cache=True)
-def _has_flight(rows, n_rows):
-    """True when one of the first ``n_rows`` rows of ``rows`` is in flight."""
-    for r in range(n_rows):
-        if flight_piece(nt.coefficients(rows, r)):
-            return True
-    return False
-
-
-@njit(cache=True)
-def leaves_contact(c, y0, ydot0, t_end, dt):
-    """True when the normal motion in coefficients ``c``
-    (:func:`~microslip.integrators.normal_tape.normal_coefficients`) from (y0 [m],
-    ẏ0 [m/s]) at t = 0 has a tape row in flight before ``t_end`` [s], at the RK4 step
-    ``dt`` [s]: the test by which :func:`_run_group` hands back a set-up of a rough
-    exponent, without its lanes. A normal integration that fails counts as leaving (the
-    run reports it)."""
-    carry, tape, work = nt.tape_buffers(y0, ydot0)
-    while True:
-        rows, status = nt.fill_tape(carry, c, t_end, dt, tape, work)
-        if status > 1 or _has_flight(tape, rows):
-            return True
-        if status == 0:
-            return False
 
 
 @njit(cache=True)
@@ -321,7 +296,7 @@ def _run_groups(g_lo, g_hi, normal_c, y0, ydot0, ratio, cycles, offsets, shapes,
             normal_c[g].copy(), y0[g], ydot0[g], ratio[g], cycle, shape, t_end, dt,
             group_lanes, group_switches, group_flagged, stop, g,
         )  # fmt: skip
-        if status[g] == LANE_STALLED or status[g] == LEFT_ROUGH_CONTACT:  # HANDED_BACK
+        if status[g] == LEFT_ROUGH_CONTACT:  # a lane that stalls is handed back alone
             threads.hand_back(stop, g)  # its progress is the batched run's (caller)
         put_group(lanes, switches, flagged, lo, group_lanes, group_switches, group_flagged)
 

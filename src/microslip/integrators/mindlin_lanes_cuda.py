@@ -53,13 +53,14 @@ from microslip.integrators.shared_lanes_cuda import (
     cuda_unavailable,
     run_lanes,
 )
-from microslip.integrators.spring_lanes import flight_piece, pack_lanes
+from microslip.integrators.spring_lanes import pack_lanes
 from microslip.integrators.spring_lanes_cuda import (
     COARSE,
     lane_results,
     lanes_kernel,
     start_lanes,
 )
+from microslip.integrators.tape_row import flight_piece
 from microslip.model.coefficients import EXPONENT, GRAVITY, MASS, SIZE
 
 PIECES_BYTES = 512 * 2**20  # at most this much of the pieces' table on the GPU

@@ -80,6 +80,8 @@ from microslip.integrators.tape_row import (  # noqa: F401  (re-exported)
     coefficients,
     critical_points,
     double_integral,
+    flight_piece,
+    has_flight,
     integral,
     poly,
     poly_rate,
@@ -337,3 +339,19 @@ def fill_tape(carry, c_array, t_end, dt, tape, work):
         t, y, v, ends0 = t1, y1, v1, ends1
     carry[C_T], carry[C_Y], carry[C_YDOT], carry[C_K], carry[C_MODE] = t, y, v, k, mode
     return rows, status
+
+
+@njit(cache=True)
+def leaves_contact(c, y0, ydot0, t_end, dt):
+    """True when the normal motion in coefficients ``c`` (:func:`normal_coefficients`)
+    from (y0 [m], ẏ0 [m/s]) at t = 0 has a tape row in flight before ``t_end`` [s], at
+    the RK4 step ``dt`` [s]: the test by which the Mindlin lanes hand back a set-up of a
+    rough exponent (:mod:`~microslip.integrators.mindlin_lanes`), without its lanes. A
+    normal integration that fails counts as leaving (the run reports it)."""
+    carry, tape, work = tape_buffers(y0, ydot0)
+    while True:
+        rows, status = fill_tape(carry, c, t_end, dt, tape, work)
+        if status > 1 or has_flight(tape, rows):
+            return True
+        if status == 0:
+            return False

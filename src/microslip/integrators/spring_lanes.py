@@ -55,6 +55,7 @@ from microslip.integrators.spring_lane_law import (
     set_piece,
     set_spring,
 )
+from microslip.integrators.tape_row import flight_piece
 from microslip.model.coefficients import GRAVITY, MASS
 from microslip.model.normal import normal_force
 
@@ -119,12 +120,6 @@ def starts_in_flight(c, y0, ydot0):
     """True when a set-up starts out of contact (N = 0 at t = 0): its lanes, at rest on a
     relaxed spring, start in flight; otherwise they stick."""
     return normal_force(0.0, y0, ydot0, as_tuple(c)) <= 0.0
-
-
-@njit(cache=True)
-def flight_piece(a):
-    """True for a tape piece in flight: its quartic P is 0 throughout."""
-    return a[0] == 0.0 and a[1] == 0.0 and a[2] == 0.0 and a[3] == 0.0 and a[4] == 0.0
 
 
 @njit(cache=True)

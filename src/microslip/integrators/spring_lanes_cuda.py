@@ -37,13 +37,13 @@ from microslip.integrators.spring_lanes import (
     MU_S,
     V,
     X,
-    flight_piece,
     flight_step,
     free_piece,
     pack_lanes,
     piece_constants,
     starts_in_flight,
 )
+from microslip.integrators.tape_row import flight_piece
 from microslip.model.coefficients import GRAVITY, MASS
 
 # Columns of the per-set-up constants.

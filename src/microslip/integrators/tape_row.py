@@ -57,6 +57,21 @@ def coefficients(tape, r):
 
 
 @njit(cache=True)
+def flight_piece(a):
+    """True for a tape piece in flight: its quartic P is 0 throughout."""
+    return a[0] == 0.0 and a[1] == 0.0 and a[2] == 0.0 and a[3] == 0.0 and a[4] == 0.0
+
+
+@njit(cache=True)
+def has_flight(tape, n_rows):
+    """True when one of the first ``n_rows`` rows of ``tape`` is in flight."""
+    for r in range(n_rows):
+        if flight_piece(coefficients(tape, r)):
+            return True
+    return False
+
+
+@njit(cache=True)
 def critical_points(tape, r):
     """(count, τ1, τ2, τ3) of tape row r: where P' = 0 inside the piece."""
     return int(tape[r, NCRIT]), tape[r, CRIT1], tape[r, CRIT2], tape[r, CRIT3]

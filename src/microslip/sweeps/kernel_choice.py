@@ -108,7 +108,7 @@ def flying_setups(model: Model, param_axes, amplitudes, duration: float, dt) -> 
     forced one those whose normal motion from rest at y0 has a flight within
     ``duration`` [s], integrated at the sweep's step ``dt`` [s] (None: 1/200 of the
     period to resolve) as the lanes would
-    (:func:`~microslip.integrators.mindlin_lanes.leaves_contact`). The sets of an
+    (:func:`~microslip.integrators.normal_tape.leaves_contact`). The sets of an
     exponent the lanes run through flights count 0. Remembered for the last few sweeps
     (a sweep is estimated when it is built and again when its budget is checked)."""
     axes = tuple((name, tuple(float(v) for v in values)) for name, values in param_axes)
@@ -118,8 +118,7 @@ def flying_setups(model: Model, param_axes, amplitudes, duration: float, dt) -> 
 
 @functools.lru_cache(maxsize=8)
 def _flying_setups(model: Model, param_axes, amplitudes, duration: float, dt) -> float:
-    from microslip.integrators.mindlin_lanes import leaves_contact
-    from microslip.integrators.normal_tape import normal_coefficients
+    from microslip.integrators.normal_tape import leaves_contact, normal_coefficients
 
     names = [name for name, _ in param_axes]
     amplitudes = np.asarray(amplitudes, dtype=float)
