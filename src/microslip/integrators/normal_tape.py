@@ -150,7 +150,10 @@ def normal_key(c: np.ndarray) -> bytes:
     return out.tobytes()
 
 
-@njit(cache=True, error_model="numpy")
+# fill_tape's per-step helpers are inlined into it (inline="always"), and it takes their
+# error model: each compiled call passed the coefficient tuple (SIZE floats) by value, a
+# third of a step's cost (docs/design.md, "Compile time").
+@njit(cache=True, error_model="numpy", inline="always")
 def _end_values(t, y, ydot, c):
     """(ÿ [m/s^2], N_raw [N], dN_raw/dt [N/s], δ [m], δ̇ [m/s], dN/dt in contact [N/s])
     at a piece end: the normal acceleration, the SEPARATION function and its rate (the
@@ -174,7 +177,7 @@ def _end_values(t, y, ydot, c):
     )
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def piece_coefficients(t0, y0, v0, ends0, t1, y1, v1, ends1, c):
     """The quartic (a0, ..., a4) [N] of the normal force over the piece from
     (t0, y0, ẏ0) to (t1, y1, ẏ1) of a normal motion in coefficients ``c``; zeros in
@@ -222,7 +225,7 @@ def tape_buffers(y0, ydot0):
     return start_tape(y0, ydot0), tape, work
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _held_acceleration(t, y, v, c, flight):
     """ÿ [m/s^2] at a stage: N = 0 in flight, else the law at the stage state."""
     if flight:
@@ -230,7 +233,7 @@ def _held_acceleration(t, y, v, c, flight):
     return normal_acceleration(t, y, v, c)
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", inline="always")
 def _rk4(t, h, y, v, a1, c, flight):
     """One RK4 step of the normal motion alone: the arithmetic of
     :func:`~microslip.integrators.steppers.rk4_step` on the (y, ẏ) components; ``a1`` is
@@ -247,7 +250,7 @@ def _rk4(t, h, y, v, a1, c, flight):
     return y + w * (v + 2.0 * v2 + 2.0 * v3 + v4), v + w * (a1 + 2.0 * a2 + 2.0 * a3 + a4)
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _may_switch(h, ends0, ends1, c):
     """False when neither contact function can flip inside the step (the screening of
     :mod:`~microslip.integrators.switching`, on the end values)."""
@@ -258,7 +261,7 @@ def _may_switch(h, ends0, ends1, c):
     return False
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def fill_tape(carry, c_array, t_end, dt, tape, work):
     """Integrate the normal motion on from ``carry`` and write its pieces into ``tape``.
 
