@@ -52,6 +52,7 @@ from microslip.integrators.spring_lane_law import (
     P_THETA,
     PIECE,
     lane_piece,
+    oscillation,
     set_piece,
     set_spring,
 )
@@ -71,9 +72,7 @@ def piece_constants(a, piece, h_int, h2_kint):
     P', the bounds' factors; ``h_int`` = h I(1), ``h2_kint`` = h² K(1)."""
     h, theta, omega, k_t = piece[P_H], piece[P_THETA], piece[P_OMEGA], piece[P_KT]
     mass, d1, d2, d3 = piece[P_MASS], piece[P_D1], piece[P_D2], piece[P_D3]
-    sin_t = math.sin(theta)
-    half = math.sin(0.5 * theta)
-    cos_minus_one = -2.0 * half * half
+    sin_t, cos_minus_one = oscillation(theta)
     return (
         h, sin_t, cos_minus_one, sin_t / omega, sin_t / (mass * omega), cos_minus_one / k_t,
         k_t / omega, 1.0 / (k_t * h), a[0], nt.poly(a, 1.0), a[1], nt.poly_rate(a, 1.0),
