@@ -173,6 +173,15 @@ class Model:
                 out[f"{slot}.{name}"] = (getattr(part, name), part.field_unit(name))
         return out
 
+    def dotted_names(self) -> tuple[str, ...]:
+        """The keys of :meth:`numeric_fields`, without their values and units (a sweep
+        replaces a field per set-up, and this test of its name was most of that cost)."""
+        names = list(Parameters.field_names())
+        for slot, part in self.parts().items():
+            if part is not None:
+                names.extend(f"{slot}.{name}" for name in part.field_names())
+        return tuple(names)
+
     def unit(self, name: str) -> str:
         """SI unit of the field with dotted ``name``."""
         return self.numeric_fields()[self.canonical_name(name)][1]
@@ -187,7 +196,7 @@ class Model:
                 f"{name!r} is not used with friction={type(self.friction).__name__}: change "
                 "friction.mu_static / friction.mu_kinetic instead"
             )
-        if short in self.numeric_fields():
+        if short in self.dotted_names():
             return short
         slot = name.split(".", 1)[0]
         if slot in PART_TYPES and getattr(self, slot) is None:

@@ -5,6 +5,7 @@ All quantities are SI. The defaults are the paper's data (Sec. 3).
 
 from __future__ import annotations
 
+import functools
 import math
 from dataclasses import asdict, dataclass, field, fields, replace
 from typing import Any
@@ -203,6 +204,7 @@ class Parameters:
         return replace(self, **changes)
 
     @classmethod
+    @functools.cache
     def field_names(cls) -> tuple[str, ...]:
         return tuple(f.name for f in fields(cls))
 

@@ -13,6 +13,7 @@ A part writes its own slots of the coefficient vector in :meth:`Part.pack`
 
 from __future__ import annotations
 
+import functools
 import math
 from dataclasses import field, fields, replace
 from typing import Any, ClassVar
@@ -66,6 +67,7 @@ class Part:
             object.__setattr__(self, f.name, value)
 
     @classmethod
+    @functools.cache
     def field_names(cls) -> tuple[str, ...]:
         return tuple(f.name for f in fields(cls))  # type: ignore[arg-type]
 
