@@ -135,7 +135,9 @@ def locate(which, of_rate, method, s0, t, h, mode, c, rtol, atol, lo, hi, f_lo, 
     return hi
 
 
-@njit(cache=True, error_model="numpy")
+# Inlined into its two callers (may_switch, every step; first_switch): a compiled call
+# passed the coefficient tuple and both state tuples by value (docs/design.md).
+@njit(cache=True, error_model="numpy", inline="always")
 def _screen(which, t, h, mode, c, x0, x1):
     """(verdict, g0, g1, ġ0, ġ1) of switching function ``which`` over the step from
     (t, x0) to (t + h, x1) (state tuples): _CLEAR, _CROSSING (a sign change between the
