@@ -54,12 +54,13 @@ def test_work_counts_the_steps_of_each_sets_shortest_period(model, axes, amplitu
 
 
 def test_a_stiff_spring_grid_is_refused_by_the_time_budget():
-    """k_t = 1e6 K_n: a period 1000 times shorter than T0; a grid that would take hours
-    is refused before computing, the estimate naming its run time."""
+    """k_t = 1e6 K_n: a period 1000 times shorter than T0, so 1000 times the steps; a
+    grid of 3.9e12 trajectory-steps (estimated at ~9 h on 2 threads, still over the
+    limit on 32) is refused before computing, the estimate naming its run time."""
     model = ms.Model(P, tangential=ms.TangentialSpring(1e6 * K_N))
     with pytest.raises(ms.WorkLimitError, match="trajectory-steps"):
-        sweep(model, None, force=np.linspace(0.1, 0.9, 64), amplitude=np.linspace(0, 2e-7, 64),
-              method="time", duration=0.05)  # fmt: skip
+        sweep(model, None, force=np.linspace(0.1, 0.9, 512),
+              amplitude=np.linspace(0, 2e-7, 512), method="time", duration=0.05)  # fmt: skip
 
 
 def test_steady_refuses_a_compliant_contact_and_names_the_time_method():

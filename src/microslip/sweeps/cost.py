@@ -70,13 +70,28 @@ BATCHED_FREE_S_PER_LANE_STEP = 1e-6  # a free vibration
 # above, each lane-step the contact point's closed forms. Measured 2026-11-26, 64 forces
 # x 16 amplitudes, 0.05 s, dt = 1/200 of the tangential period, 2 threads: 12 ns per
 # lane-step per thread, switches included (~2 % of the lane-steps are searched, ~0.4 us
-# each); rounded up ~2.5x.
-SPRING_S_PER_LANE_STEP = 3e-8
+# each). Re-measured 2026-11-28 (warm sweeps, 0.05 s, 2 threads, per thread): 5.2-5.6 ns
+# per lane-step (256 and 1024 forces, free and forced), the Mindlin lanes 5.9-9 ns;
+# rounded up ~2.5x and ~1.7x. A set-up step of a forced spring map (its tape and the
+# piece's constants) 270 ns, rounded up ~1.9x.
+SPRING_S_PER_LANE_STEP = 1.5e-8
+SPRING_S_PER_SETUP_STEP = 0.5e-6
+# The spring and Mindlin lanes of a free vibration run on its repeated tape (a period's
+# rows, built once): a set-up step is then the walk over a row and its piece's
+# constants. Measured 2026-11-28, 4 forces x 64 amplitudes, 2 threads, per thread: ~56 ns
+# (spring) and ~90 ns (Mindlin) a step besides the lanes; rounded up ~2.2x.
+COMPLIANT_S_PER_REPEATED_ROW = 0.2e-6
+# In-process, time chunks are computed LOCAL_BATCH at a time in one shared-normal run
+# (sweeps/runner.py), which spreads their set-ups over the threads: a forced model's
+# chunks, one set-up each, so run up to that many at once.
+LOCAL_BATCH = 16
 # "time" sweeps of a MindlinSpring (microslip.integrators.mindlin_lanes): the same lanes'
 # cost, and per set-up step the tape and the piece's stiffness, stop-function quartics
 # and stick series. Measured 2026-11-26, 8 set-ups x 1 and x 256 forces, 0.05 s, 1
 # thread: 0.38-0.53 us per set-up step, 5-6 ns per lane-step; rounded up ~3x (the lanes
 # as SPRING_S_PER_LANE_STEP).
+# Re-measured 2026-11-28 (forced, 1 force x 32 excitation amplitudes, 2 threads): 0.76 us
+# per set-up step per thread; ~2x.
 MINDLIN_S_PER_SETUP_STEP = 1.5e-6
 # Sweeps: the result array, the copy read back from the store, the Dataset written out.
 SWEEP_BYTES_PER_POINT = 32
@@ -135,6 +150,7 @@ def estimate_sweep(
     n_chunks: int = 0,
     run_lanes: float = 0.0,
     free_vibration: bool = False,
+    repeated_tape: bool = False,
 ) -> Estimate:
     """Work, run time [s] and memory [bytes] of a sweep.
 
@@ -149,7 +165,8 @@ def estimate_sweep(
     padded to whole blocks (:func:`batched_lane_steps`), at the rate of a
     ``free_vibration`` or of a damped or forced one. Where a free vibration's tape repeats, a
     round costs ``tape_fraction`` and ``lane_fraction`` of the shared-normal kernels'
-    tape and lane work (:data:`PARKED_LANE_PERIODS`), each of its ``cycles`` set-ups
+    tape and lane work (:data:`PARKED_LANE_PERIODS`), and a spring or Mindlin set-up step
+    :data:`COMPLIANT_S_PER_REPEATED_ROW` (``repeated_tape``), each of its ``cycles`` set-ups
     :data:`TIME_S_PER_CYCLE`; each of ``n_chunks`` time chunks adds
     :data:`TIME_S_PER_CHUNK`. Memory: the result (``SWEEP_BYTES_PER_POINT`` per point)
     and the buffers of the chunk of ``chunk_points`` points being computed (an
@@ -170,7 +187,13 @@ def estimate_sweep(
         work, unit = lane_steps, "trajectory-steps"
     else:
         lane_cost = SHARED_S_PER_LANE_STEP if kernel == "shared" else SPRING_S_PER_LANE_STEP
-        setup_cost = MINDLIN_S_PER_SETUP_STEP if kernel == "mindlin" else SHARED_S_PER_SETUP_STEP
+        setup_cost = {
+            "shared": SHARED_S_PER_SETUP_STEP,
+            "spring": SPRING_S_PER_SETUP_STEP,
+            "mindlin": MINDLIN_S_PER_SETUP_STEP,
+        }[kernel]
+        if repeated_tape and kernel != "shared":
+            setup_cost = COMPLIANT_S_PER_REPEATED_ROW
         per_step = setup_cost * tape_fraction + n_forces * lane_cost * lane_fraction
         seconds = setup_steps * per_step + cycles * TIME_S_PER_CYCLE
         buffers = BATCH_BYTES_PER_LANE * chunk_points + batch_threads() * TAPE_BYTES

@@ -199,11 +199,20 @@ def estimate_work(
         )
     if method == "time" and model.excitation is None:
         # A chunk of fewer set-ups than threads runs each as copies sharing out its lanes
-        # (integrators/setup_copies.py). A forced model's chunks (one set-up each) run in
-        # batches, and are left at one copy: an upper bound.
+        # (integrators/setup_copies.py).
         lane_fraction /= SetupCopies.copies_for(
             min(amplitude_chunk, n_amplitudes), n_forces, cost.batch_threads()
         )
+    elif method == "time":
+        # A forced model's chunks (one set-up each) run up to LOCAL_BATCH at a time, their
+        # set-ups spread over the threads (each round above counted one).
+        setup_steps /= min(cost.batch_threads(), cost.LOCAL_BATCH, max(n_chunks, 1))
+    # The spring and Mindlin lanes of a free vibration run on its repeated tape too.
+    repeated = (
+        kernel != "shared"
+        and amplitudes is not None
+        and repeats_from_rest(model, float(np.max(amplitudes)))
+    )
     values = n_forces + n_amplitudes + sum(len(v) for _, v in param_axes)
     estimate = cost.estimate_sweep(
         method=method,
@@ -219,6 +228,7 @@ def estimate_work(
         lane_fraction=lane_fraction,
         cycles=cycles,
         n_chunks=n_chunks,
+        repeated_tape=repeated,
     )
     if method != "time":
         return estimate

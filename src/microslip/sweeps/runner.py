@@ -15,6 +15,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from microslip.sweeps.compute import compute_chunk, compute_chunks, shares_runs, tape_order
+from microslip.sweeps.cost import LOCAL_BATCH
 from microslip.sweeps.dataset import sweep_dataset
 from microslip.sweeps.spec import SweepSpec
 from microslip.sweeps.store import SweepStore, exclusive_lock
@@ -130,11 +131,11 @@ def _checked(spec: SweepSpec, key, block) -> np.ndarray:
     return block
 
 
-# In-process, time chunks are computed this many at a time in one shared-normal run,
+# In-process, time chunks are computed LOCAL_BATCH at a time in one shared-normal run,
 # which spreads their set-ups over the cores (a forced model's chunk is one set-up: one at
 # a time, each would keep a single core busy) and lets set-ups that differ only in
-# friction coefficients share a tape. Small enough for a lively progress bar.
-LOCAL_BATCH = 16
+# friction coefficients share a tape. Small enough for a lively progress bar; in cost.py,
+# whose estimate counts on it.
 # ... and at most this many lanes in all (~190 B each: the in-memory chunk cap), so that
 # batching never holds more than one large chunk's buffers.
 BATCH_LANES = 2**18
