@@ -211,6 +211,34 @@ SIMULATED = textwrap.dedent(
         assert cpu[4][kept].sum() >= 4 and (cpu[3][kept] == 2.0).any(), cpu[4]
     print("hertz hand-back same bits")
 
+    # A touchdown tie (λ = 1, F = μ m g from rest in flight: tests/unit/
+    # test_sweep_compliant_time.py): the lane that stalls is handed back alone on both,
+    # NaN, and the other lane of its set-up keeps the CPU's bits.
+    import microslip as ms
+    from microslip.integrators.normal_tape import normal_coefficients
+    from microslip.simulation import initial_state_from_amplitude
+    from microslip.validation import DEFAULT_RK4_STEPS_PER_PERIOD
+    params = ms.Parameters()
+    tie = ms.Model(params, tangential=ms.MindlinSpring(1.0))
+    mg = params.mass * params.g
+    dt = ms.budget.shortest_period(tie) / DEFAULT_RK4_STEPS_PER_PERIOD
+    args = (
+        normal_coefficients(tie.pack(0.0))[None],
+        np.array([initial_state_from_amplitude(params, 3.0 * params.static_deflection)[:2]]),
+        [1.0], [0, 0], [0.5 * params.mu * mg, params.mu * mg], params.mu, params.mu,
+        200 * dt, dt,
+    )
+    from microslip.integrators.shared_lanes import LaneStalledError
+    partial = []
+    for run in (run_mindlin_lanes, run_mindlin_lanes_cuda):
+        with pytest.raises(LaneStalledError) as stalled:
+            run(*args)
+        assert list(stalled.value.setups) == [] and list(stalled.value.lanes) == [1], run
+        partial.append(stalled.value.partial)
+    for name, a, b in zip(("x", "v", "f"), partial[0], partial[1]):
+        assert np.isnan(a[1]) and np.isnan(b[1]) and a[0] == b[0], ("tie", name, a, b)
+    print("tie hand-back")
+
     # The public path: velocity_map / sweep with backend="cuda", free and forced.
     import tempfile
     from pathlib import Path

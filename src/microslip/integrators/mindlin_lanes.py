@@ -42,7 +42,6 @@ from microslip.integrators import periodic_tape, threads
 from microslip.integrators.kernel import as_tuple
 from microslip.integrators.shared_lanes import (
     FIRST_ROW,
-    LANE_STALLED,
     OK,
     STOPPED,
     LaneStalledError,
@@ -71,9 +70,9 @@ from microslip.model.coefficients import EXPONENT, GRAVITY, MASS
 
 STEP_TOO_COARSE = 7  # a set-up's status: θ = h sqrt(k_t/m) > MAX_THETA on a piece
 LEFT_ROUGH_CONTACT = 8  # a set-up's status: a flight at an m2 outside supports_exponent
-# (LANE_STALLED: the GPU lanes hand back the set-up of a lane that stalls.)
+# The set-ups the Mindlin lanes hand back whole; a lane that stalls goes back alone, with
+# ``LaneStalledError.lanes`` (CPU and GPU lanes).
 HANDED_BACK = {
-    LANE_STALLED: "a lane stalled",
     LEFT_ROUGH_CONTACT: "the normal motion left contact on a law whose Mindlin stiffness is "
     "rough at touchdown",
 }

@@ -20,7 +20,9 @@ Contact exponents: any m2, as on the CPU. At an m2 outside
 1.5) a set-up runs here while it stays in contact; the table kernel marks one with a
 row in flight, its lanes stop at their next contact piece, and the run hands it back
 (``LEFT_ROUGH_CONTACT``, :class:`~microslip.integrators.shared_lanes.LaneStalledError`
-with the other set-ups' results as its ``partial``), as the CPU kernel does.
+with the other set-ups' results as its ``partial``), as the CPU kernel does. A lane
+that stalls (an exact stick/slip tie at a touchdown) is handed back alone, as on the CPU:
+NaN, named in the error's ``lanes``, the other lanes of its set-up run to the end.
 
 A lane's result depends only on its parameters and its set-up's tape; on a GPU the
 bits differ from the CPU kernel's by rounding (fused multiply-adds), and under numba's
@@ -53,7 +55,7 @@ from microslip.integrators.shared_lanes_cuda import (
     cuda_unavailable,
     run_lanes,
 )
-from microslip.integrators.spring_lanes import pack_lanes
+from microslip.integrators.spring_lanes import FS, V, X, pack_lanes
 from microslip.integrators.spring_lanes_cuda import (
     COARSE,
     lane_results,
@@ -217,4 +219,5 @@ def run_mindlin_lanes_cuda(normal_coeffs, normal_states0, ratio, group_of_lane, 
         t_end, dt, tape_rows, before=(d_setups, d_pieces), after=(flying,), periods=periods,
         prepare=fill_table, check=check, results=lane_results, handed_back=HANDED_BACK,
         statuses=lambda: np.where(left_rough_contact(), LEFT_ROUGH_CONTACT, OK),
+        alone_rows=(X, V, FS),
     )  # fmt: skip

@@ -286,7 +286,7 @@ def run_blocks(kernel, normal_coeffs, normal_states0, n_lanes, t_end, dt, tape_r
 def run_lanes(kernel, name, normal_coeffs, normal_states0, lanes, lane_group, t_end, dt,
               tape_rows, before=(), after=(), periods=None, prepare=None,
               check=None, cycles=None, cycles_on_gpu=False, results=None,
-              statuses=None, handed_back=None):  # fmt: skip
+              statuses=None, handed_back=None, alone_rows=None):  # fmt: skip
     """Run ``kernel`` over every block of tapes (:func:`run_blocks`, with ``prepare``) on
     ``lanes`` (rows x lanes, a column per lane, ``lane_group`` its set-up) and return
     ``results(lanes, switches, flagged)`` (default: that tuple) from the GPU. The kernel
@@ -298,7 +298,10 @@ def run_lanes(kernel, name, normal_coeffs, normal_states0, lanes, lane_group, t_
     back (a lane stalled, or a status of ``handed_back`` that ``statuses()`` gives the
     set-up: :func:`~microslip.integrators.shared_lanes.raise_on_failure`), with the
     results as its ``partial``: complete for every other set-up, since a thread's lane
-    depends on nothing but its own set-up. ``periods``, ``cycles`` and ``cycles_on_gpu``
+    depends on nothing but its own set-up. With ``alone_rows`` (rows of the lane array) a
+    lane that stalled is handed back alone, as the CPU Mindlin lanes do: those rows of it
+    are NaN, the error's ``lanes`` names it, and the other lanes of its set-up, which
+    ran to the end, keep their results. ``periods``, ``cycles`` and ``cycles_on_gpu``
     as for :func:`run_blocks`."""
     n_groups, n_lanes = normal_coeffs.shape[0], lanes.shape[1]
     stream = cuda.stream()
@@ -323,15 +326,27 @@ def run_lanes(kernel, name, normal_coeffs, normal_states0, lanes, lane_group, t_
         check()
     raise_on_failure(status, name)
     group_status = np.full(n_groups, OK, dtype=np.int64)
-    group_status[lane_group[stalled != 0]] = LANE_STALLED
+    if alone_rows is None:
+        group_status[lane_group[stalled != 0]] = LANE_STALLED
     if statuses is not None:  # the kernel's own marks come first (they end the lanes)
         marked = statuses()
         group_status = np.where(marked != OK, marked, group_status)
+    alone = np.zeros(0, dtype=np.int64)
+    if alone_rows is not None:  # a lane of a set-up handed back whole goes with it
+        alone = np.flatnonzero((stalled != 0) & (group_status[lane_group] == OK))
+        for row in alone_rows:
+            lanes[row, alone] = np.nan
     out = (lanes, switches, flagged) if results is None else results(lanes, switches, flagged)
     try:
         raise_on_failure(group_status, name, handed_back)
+        if alone.size:
+            raise LaneStalledError(
+                f"{name}: {alone.size} lane(s) stalled, lane {alone[0]} first",
+                np.zeros(0, dtype=np.int64),
+            )
     except LaneStalledError as error:
         error.partial = out
+        error.lanes = alone
         raise
     return out
 

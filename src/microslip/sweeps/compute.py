@@ -306,7 +306,7 @@ def _mindlin_run(models, rows, setups, groups, normal0, periods, forces, lane_fo
     :func:`~microslip.integrators.mindlin_lanes.supports_exponent`, whose stiffness
     k_t ∝ δ^(m2-1) is rough at touchdown (docs/theory/numerics.md, "Lanes on a Mindlin
     spring"), and a lane that stalls (an exact tie of stick and slip at a touchdown):
-    the CPU lanes that lane alone, the GPU lanes its set-up.
+    that lane alone (CPU and GPU lanes).
 
     ``on_done`` (set-ups) hears of the lanes' progress, a set-up handed back counting
     only for what it reached (:func:`~microslip.integrators.threads.hand_back`), then of
