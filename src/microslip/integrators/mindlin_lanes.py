@@ -44,7 +44,6 @@ from microslip.integrators.shared_lanes import (
     FIRST_ROW,
     OK,
     STOPPED,
-    LaneStalledError,
     put_group,
     raise_on_failure,
     take_group,
@@ -295,7 +294,7 @@ def _run_groups(g_lo, g_hi, normal_c, y0, ydot0, ratio, cycles, offsets, shapes,
             normal_c[g].copy(), y0[g], ydot0[g], ratio[g], cycle, shape, t_end, dt,
             group_lanes, group_switches, group_flagged, stop, g,
         )  # fmt: skip
-        if status[g] == LEFT_ROUGH_CONTACT:  # a lane that stalls is handed back alone
+        if status[g] == LEFT_ROUGH_CONTACT:  # handed back whole (a stalled lane goes alone)
             threads.hand_back(stop, g)  # its progress is the batched run's (caller)
         put_group(lanes, switches, flagged, lo, group_lanes, group_switches, group_flagged)
 
@@ -349,18 +348,9 @@ def run_mindlin_lanes(normal_coeffs, normal_states0, ratio, group_of_lane, force
     results = tuple(
         copies.unorder(r) for r in (lanes[X], lanes[V], lanes[FS], lanes[MODE], switches, flagged)
     )
-    stalled = np.flatnonzero(np.isnan(results[0]))  # lanes handed back alone
-    try:
-        raise_on_failure(status, "Mindlin-lane kernel", HANDED_BACK)
-        if stalled.size:
-            raise LaneStalledError(
-                f"Mindlin-lane kernel: {stalled.size} lane(s) stalled, lane {stalled[0]} first",
-                np.zeros(0, dtype=np.int64),
-            )
-    except LaneStalledError as error:
-        error.partial = results  # the rest ran to the end: no need to rerun it
-        error.lanes = stalled
-        raise
+    # The lanes handed back alone are NaN; the rest ran to the end: no need to rerun it.
+    stalled = np.flatnonzero(np.isnan(results[0]))
+    raise_on_failure(status, "Mindlin-lane kernel", HANDED_BACK, stalled, results)
     return results
 
 

@@ -64,10 +64,13 @@ class LaneStalledError(RuntimeError):
 HANDED_BACK = {LANE_STALLED: "a lane stalled"}
 
 
-def raise_on_failure(status: np.ndarray, kernel: str, handed_back=None) -> None:
+def raise_on_failure(status: np.ndarray, kernel: str, handed_back=None, lanes=None,
+                     partial=None) -> None:  # fmt: skip
     """RuntimeError naming the first normal set-up whose status is not OK: a failed
     normal integration first, else :class:`LaneStalledError` for the statuses of
-    ``handed_back`` ({status: reason}, default :data:`HANDED_BACK`)."""
+    ``handed_back`` ({status: reason}, default :data:`HANDED_BACK`) and for ``lanes``
+    (the lanes a kernel hands back alone, in the caller's order), which it carries with
+    ``partial`` (the kernel's results, complete for everything not handed back)."""
     handed_back = HANDED_BACK if handed_back is None else handed_back
     back = np.isin(status, list(handed_back))
     failed = np.flatnonzero((status != OK) & ~back)
@@ -77,10 +80,17 @@ def raise_on_failure(status: np.ndarray, kernel: str, handed_back=None) -> None:
             f"{kernel}: the normal integration failed in set-up {g} (status {status[g]})"
         )
     setups = np.flatnonzero(back)
+    lanes = np.zeros(0, dtype=np.int64) if lanes is None else lanes
     if setups.size:
         g = int(setups[0])
         message = f"{kernel}: {handed_back[int(status[g])]} in set-up {g} (status {status[g]})"
-        raise LaneStalledError(message, setups)
+    elif lanes.size:
+        message = f"{kernel}: {lanes.size} lane(s) stalled, lane {lanes[0]} first"
+    else:
+        return
+    error = LaneStalledError(message, setups, lanes)
+    error.partial = partial
+    raise error
 
 
 # Rows of the lane array of a group (one array: a compiled call counts each array

@@ -48,7 +48,6 @@ from microslip.integrators.shared_lanes import (
     N_BALANCE,
     N_RELEASE,
     OK,
-    LaneStalledError,
     V,
     X,
     pack_lanes,
@@ -337,17 +336,7 @@ def run_lanes(kernel, name, normal_coeffs, normal_states0, lanes, lane_group, t_
         for row in alone_rows:
             lanes[row, alone] = np.nan
     out = (lanes, switches, flagged) if results is None else results(lanes, switches, flagged)
-    try:
-        raise_on_failure(group_status, name, handed_back)
-        if alone.size:
-            raise LaneStalledError(
-                f"{name}: {alone.size} lane(s) stalled, lane {alone[0]} first",
-                np.zeros(0, dtype=np.int64),
-            )
-    except LaneStalledError as error:
-        error.partial = out
-        error.lanes = alone
-        raise
+    raise_on_failure(group_status, name, handed_back, alone, out)
     return out
 
 
