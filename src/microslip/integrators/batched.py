@@ -75,6 +75,7 @@ from microslip.integrators.kernel import (
     copy_state,
     graded_target,
     piece_end,
+    time_grid,
 )
 from microslip.integrators.methods import RK4, WORK_ROWS
 from microslip.integrators.steppers import rk4_step
@@ -96,31 +97,6 @@ REPORT_STEPS = 256
 # Lane status.
 LANE_OK = 0
 LANE_STALLED = 1
-
-
-@njit(cache=True)
-def time_grid(t_end, dt):
-    """Step ends of the RK4 grid from t = 0: k·dt, the last one clipped to ``t_end``.
-
-    The same rule as ``integrate_chunk``: a grid point within 1e-9·dt of ``t_end`` (or
-    past it) is replaced by ``t_end``.
-    """
-    n = int(t_end / dt) + 3
-    out = np.empty(n)
-    t = 0.0
-    k = 1
-    count = 0
-    while t < t_end:
-        target = 0.0 + k * dt
-        if target >= t_end or t_end - target < 1e-9 * dt:
-            target = t_end
-        k += 1
-        if target <= t:
-            continue
-        out[count] = target
-        count += 1
-        t = target
-    return out[:count]
 
 
 @njit(cache=True)

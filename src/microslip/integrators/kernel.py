@@ -65,6 +65,20 @@ def next_grid_point(t, t0, k, dt, t_end):
 
 
 @njit(cache=True)
+def time_grid(t_end, dt):
+    """Step ends of the RK4 grid from t = 0: k·dt, the last one clipped to ``t_end``
+    (:func:`next_grid_point`, the rule of ``integrate_chunk``)."""
+    out = np.empty(int(t_end / dt) + 3)
+    t, k, count = 0.0, 1, 0
+    while t < t_end:
+        t, k = next_grid_point(t, 0.0, k, dt, t_end)
+        out[count] = t
+        count += 1
+        k += 1
+    return out[:count]
+
+
+@njit(cache=True)
 def graded_target(t, target, graded_from, dt):
     """(end [s], on the grid, still grading) of a fixed step from t [s] towards the grid
     point ``target`` [s] while leaving a graded switch made at ``graded_from`` [s]: the
