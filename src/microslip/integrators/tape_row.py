@@ -77,31 +77,39 @@ def critical_points(tape, r):
     return int(tape[r, NCRIT]), tape[r, CRIT1], tape[r, CRIT2], tape[r, CRIT3]
 
 
+# Estrin's scheme rather than Horner's: the lanes' switch searches evaluate these one
+# after another, each on the last one's result, so their latency is what costs; Estrin
+# halves the chain of dependent operations (a division by 3, 5, ... runs beside the
+# powers of τ instead of inside the chain). Same accuracy, different rounding.
 @njit(cache=True)
 def poly(a, tau):
-    """P(τ) [N] (Horner)."""
-    return a[0] + tau * (a[1] + tau * (a[2] + tau * (a[3] + tau * a[4])))
+    """P(τ) [N]."""
+    tau2 = tau * tau
+    return (a[0] + tau * a[1]) + tau2 * ((a[2] + tau * a[3]) + tau2 * a[4])
 
 
 @njit(cache=True)
 def poly_rate(a, tau):
     """dP/dτ [N]."""
-    return a[1] + tau * (2.0 * a[2] + tau * (3.0 * a[3] + tau * 4.0 * a[4]))
+    return (a[1] + tau * (2.0 * a[2])) + (tau * tau) * (3.0 * a[3] + tau * (4.0 * a[4]))
 
 
 @njit(cache=True)
 def integral(a, tau):
     """I(τ) = ∫₀^τ P [N]."""
-    return tau * (
-        a[0] + tau * (a[1] / 2.0 + tau * (a[2] / 3.0 + tau * (a[3] / 4.0 + tau * a[4] / 5.0)))
-    )
+    tau2 = tau * tau
+    low = a[0] + tau * (a[1] / 2.0)
+    high = (a[2] / 3.0 + tau * (a[3] / 4.0)) + tau2 * (a[4] / 5.0)
+    return tau * (low + tau2 * high)
 
 
 @njit(cache=True)
 def double_integral(a, tau):
     """K(τ) = ∫₀^τ I = ∫₀^τ (τ - σ) P(σ) dσ [N]."""
-    inner = a[1] / 6.0 + tau * (a[2] / 12.0 + tau * (a[3] / 20.0 + tau * a[4] / 30.0))
-    return tau * tau * (a[0] / 2.0 + tau * inner)
+    tau2 = tau * tau
+    low = a[0] / 2.0 + tau * (a[1] / 6.0)
+    high = (a[2] / 12.0 + tau * (a[3] / 20.0)) + tau2 * (a[4] / 30.0)
+    return tau2 * (low + tau2 * high)
 
 
 @njit(cache=True)
