@@ -28,12 +28,14 @@ def test_quartic_interpolates_its_five_conditions():
 
 @pytest.mark.parametrize("seed", range(40))
 def test_integrals_extremes_and_critical_points_of_random_quartics(seed):
-    """I, K against numpy's polyint; min/max and the roots of P' against a dense grid
+    """P, P' against numpy's polynomial, I, K against its integrals; min/max and the roots of P' against a dense grid
     (the fast monotone path and the bracketed roots of P' both get exercised)."""
     rng = np.random.default_rng(seed)
     a = tuple(rng.normal(size=5) * [1.0, 1.0, 4.0, 8.0, 6.0])
     p = np.polynomial.Polynomial(a)
     for tau in (0.0, 0.3, 1.0):
+        assert nt.poly(a, tau) == pytest.approx(p(tau), abs=1e-13)
+        assert nt.poly_rate(a, tau) == pytest.approx(p.deriv()(tau), abs=1e-13)
         assert nt.integral(a, tau) == pytest.approx(p.integ()(tau), abs=1e-13)
         assert nt.double_integral(a, tau) == pytest.approx(p.integ(2)(tau), abs=1e-13)
     p_min, p_max, n_crit, *crit = nt._extremes(a)
