@@ -234,18 +234,23 @@ def _held_acceleration(t, y, v, c, flight):
 
 
 @njit(cache=True, error_model="numpy", inline="always")
-def _rk4(t, h, y, v, a1, c, flight):
+def _rk4(t, h, t1, y, v, a1, c, flight):
     """One RK4 step of the normal motion alone: the arithmetic of
     :func:`~microslip.integrators.steppers.rk4_step` on the (y, ẏ) components; ``a1`` is
     ÿ at the step start (from :func:`_end_values`). In ``flight`` N = 0 at every stage
-    (the mode holds the contact: :func:`~microslip.model.system.derivatives`)."""
+    (the mode holds the contact: :func:`~microslip.model.system.derivatives`). The last
+    stage is at ``t1``, the step's end (its grid point), which is t + h to the bit
+    wherever t >= t1/2 (then h = t1 - t is exact, by Sterbenz's lemma): every step but
+    one that starts at a switch inside the first grid interval. Written so, the
+    excitation's value at t1 is shared with the step's end values (:func:`_end_values`),
+    one sin a step fewer for a harmonic excitation."""
     hh = 0.5 * h
     y2, v2 = y + hh * v, v + hh * a1
     a2 = _held_acceleration(t + hh, y2, v2, c, flight)
     y3, v3 = y + hh * v2, v + hh * a2
     a3 = _held_acceleration(t + hh, y3, v3, c, flight)
     y4, v4 = y + h * v3, v + h * a3
-    a4 = _held_acceleration(t + h, y4, v4, c, flight)
+    a4 = _held_acceleration(t1, y4, v4, c, flight)
     w = h / 6.0
     return y + w * (v + 2.0 * v2 + 2.0 * v3 + v4), v + w * (a1 + 2.0 * a2 + 2.0 * a3 + a4)
 
@@ -292,8 +297,8 @@ def fill_tape(carry, c_array, t_end, dt, tape, work):
             break
         target, k = next_grid_point(t, 0.0, k, dt, t_end)
         h = target - t
-        y1, v1 = _rk4(t, h, y, v, ends0[0], c, airborne(mode))
         t1 = target
+        y1, v1 = _rk4(t, h, t1, y, v, ends0[0], c, airborne(mode))
         ends1 = _end_values(t1, y1, v1, c)
         if _may_switch(h, ends0, ends1, c):
             s0, s1, piece = work[WORK_ROWS], work[WORK_ROWS + 1], work[WORK_ROWS + 2]
