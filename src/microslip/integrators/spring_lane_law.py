@@ -73,9 +73,14 @@ def oscillation(d):
     search evaluates them at every step: libm's sin and cos took a sixth of a spring
     map's time, the series a few multiply-adds (within a few ulps of libm)."""
     if abs(d) <= SERIES_BOUND:
-        d2 = d * d
-        sine = d * (1.0 + d2 * (_S3 + d2 * (_S5 + d2 * (_S7 + d2 * (_S9 + d2 * _S11)))))
-        cos_minus_one = d2 * (_C2 + d2 * (_C4 + d2 * (_C6 + d2 * (_C8 + d2 * (_C10 + d2 * _C12)))))
+        # In d² = u, by Estrin's scheme: a search evaluates this at every step, one
+        # step on the last one's result, and Estrin's chain of dependent operations is
+        # half Horner's.
+        u = d * d
+        u2 = u * u
+        u4 = u2 * u2
+        sine = d * (((1.0 + _S3 * u) + u2 * (_S5 + _S7 * u)) + u4 * (_S9 + _S11 * u))
+        cos_minus_one = u * (((_C2 + _C4 * u) + u2 * (_C6 + _C8 * u)) + u4 * (_C10 + _C12 * u))
         return sine, cos_minus_one
     half = math.sin(0.5 * d)
     return math.sin(d), -2.0 * half * half
