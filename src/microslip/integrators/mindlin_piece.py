@@ -173,7 +173,7 @@ def _fundamental_series(piece, h, mass, scale):
         size = abs(v1[n + 1]) + abs(e1[n + 1]) / scale + abs(v2[n + 1]) * scale + abs(e2[n + 1])
         small = small + 1 if size < _SERIES_TOLERANCE else 0
         if small == 5:  # k is a quartic: five negligible terms in a row end the series
-            degree = n + 1
+            degree = n - 4  # the last term that is not negligible
             break
     piece[M_DEG] = degree
     phi11 = phi12 = phi21 = phi22 = psi1 = psi2 = 0.0
