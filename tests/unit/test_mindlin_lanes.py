@@ -250,3 +250,20 @@ def test_a_step_too_coarse_on_a_repeated_tape_is_refused_in_one_line():
     with pytest.raises(ValueError, match=r"dt = .* too coarse for the Mindlin"):
         run_mindlin_lanes(C[None], normal0, [RATIO], [0], [0.5], 0.1, 0.1, 5 * period,
                           60.0 * DT, periods=[period])  # fmt: skip
+
+
+@pytest.mark.parametrize("degree", range(10))
+def test_series_value_and_derivatives_against_numpy(degree):
+    """_series (even and odd parts by Horner in τ²) gives Σ c_n τⁿ and its first two
+    derivatives of every degree, odd and even, as numpy's polynomial does."""
+    rng = np.random.default_rng(degree)
+    coefficients = rng.normal(size=degree + 1)
+    piece = np.full(degree + 8, np.nan)  # past the degree: never read
+    piece[3 : 4 + degree] = coefficients
+    p = np.polynomial.Polynomial(coefficients)
+    scale = np.abs(coefficients).sum() * (1 + degree) ** 2
+    for tau in (0.0, 0.3, 0.77, 1.0):
+        value, rate, curvature = law._series(piece, 3, degree, tau)
+        assert value == pytest.approx(p(tau), abs=1e-15 * scale)
+        assert rate == pytest.approx(p.deriv()(tau), abs=1e-15 * scale)
+        assert curvature == pytest.approx(p.deriv(2)(tau), abs=1e-15 * scale)

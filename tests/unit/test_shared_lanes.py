@@ -28,8 +28,9 @@ def test_quartic_interpolates_its_five_conditions():
 
 @pytest.mark.parametrize("seed", range(40))
 def test_integrals_extremes_and_critical_points_of_random_quartics(seed):
-    """P, P' against numpy's polynomial, I, K against its integrals; min/max and the roots of P' against a dense grid
-    (the fast monotone path and the bracketed roots of P' both get exercised)."""
+    """P, P' against numpy's polynomial, I, K against its integrals; min/max and the
+    roots of P' against a dense grid (the fast monotone path and the bracketed roots of
+    P' both get exercised)."""
     rng = np.random.default_rng(seed)
     a = tuple(rng.normal(size=5) * [1.0, 1.0, 4.0, 8.0, 6.0])
     p = np.polynomial.Polynomial(a)
