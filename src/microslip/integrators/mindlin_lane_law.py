@@ -215,11 +215,13 @@ def _first_exit(kind, a, piece, p, bound2, bound3, noise, lo, hi):
             safe_step(g1 + noise, r1, c1, bound2, bound3),
             safe_step(g2 + noise, r2, c2, bound2, bound3),
         )
-        step = max(step, 0.5 * _TAU_TOLERANCE)
-        tau += step
+        if tau + step >= hi:
+            return 2.0
+        # Half a tolerance past the safe distance: a crossing there is still located
+        # to within it, and the next evaluation falls outside rather than on the root
+        # of g + noise, where its rounding leaves it inside about half the time.
+        tau += step + 0.5 * _TAU_TOLERANCE
         if tau >= hi:
-            if step > 0.5 * _TAU_TOLERANCE:
-                return 2.0
             g1, _, _, g2, _, _ = _value(kind, a, piece, p, hi)
             return hi if not _inside(kind, min(g1, g2) + noise) else 2.0
     return -1.0

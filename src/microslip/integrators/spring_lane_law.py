@@ -181,10 +181,13 @@ def _first_exit(kind, a, p, bound2, bound3, noise, lo, hi):
     crossing, and a tangency within the rounding (a stick whose force returns exactly to
     the limit, as at constant N) is passed, not taken for a release (some constant-N
     lanes of the bench map need 40-150 steps there). A crossing is found once g is
-    below -noise, about one evaluation later than below 0. A
-    search that starts on its boundary (a stick at f = μ_k N = μ_s N after a stop) then
-    starts inside however its terms were rounded: with multiply-adds fused (a GPU) the
-    margin μ_s P - μ_k P there is a rounding error of either sign, not 0."""
+    below -noise. Each step goes half a tolerance past its safe distance, so the
+    evaluation after a converged Newton step falls outside rather than on the root of
+    g + noise: a crossing in that half tolerance is still located to within the
+    tolerance, and only a dip narrower than it may pass. A search that starts on its
+    boundary (a stick at f = μ_k N = μ_s N after a stop) then starts inside however its
+    terms were rounded: with multiply-adds fused (a GPU) the margin μ_s P - μ_k P there
+    is a rounding error of either sign, not 0."""
     tau = lo
     for _ in range(_MAX_STEPS):
         g1, r1, c1, g2, r2, c2 = _value(kind, a, p, tau)
@@ -194,11 +197,13 @@ def _first_exit(kind, a, p, bound2, bound3, noise, lo, hi):
             safe_step(g1 + noise, r1, c1, bound2, bound3),
             safe_step(g2 + noise, r2, c2, bound2, bound3),
         )
-        step = max(step, 0.5 * _TAU_TOLERANCE)
-        tau += step
+        if tau + step >= hi:
+            return 2.0  # [τ, hi] was safe
+        # Half a tolerance past the safe distance: a crossing there is still located
+        # to within it, and the next evaluation falls outside rather than on the root
+        # of g + noise, where its rounding leaves it inside about half the time.
+        tau += step + 0.5 * _TAU_TOLERANCE
         if tau >= hi:
-            if step > 0.5 * _TAU_TOLERANCE:
-                return 2.0  # [τ, hi] was safe
             g1, _, _, g2, _, _ = _value(kind, a, p, hi)
             return hi if not _inside(kind, min(g1, g2) + noise) else 2.0
     return -1.0
