@@ -130,9 +130,12 @@ def flight_step(x, v, fm, h):
 @njit(cache=True, error_model="numpy")
 def _vector_pass(lanes, n, a, piece, h_int, h2_kint):
     """A contact piece for every lane as if it held no switch (:func:`free_piece`),
-    vectorised; a flagged lane keeps its state. Returns the number flagged."""
+    vectorised; a flagged lane keeps its state. Returns the number flagged and the first
+    of them (n if none): the lanes a piece switches are few and close together in force
+    order, and the search for them starts there."""
     k = piece_constants(a, piece, h_int, h2_kint)
     n_flagged = 0
+    first = n
     for i in range(n):
         xi, vi, fi = lanes[X, i], lanes[V, i], lanes[FS, i]
         flag, x1, v1, f1 = free_piece(
@@ -144,7 +147,8 @@ def _vector_pass(lanes, n, a, piece, h_int, h2_kint):
         lanes[V, i] = vi if flag else v1
         lanes[FS, i] = fi if flag else f1
         n_flagged += 1 if flag else 0
-    return n_flagged
+        first = min(first, i if flag else n)
+    return n_flagged, first
 
 
 @njit(cache=True, error_model="numpy")
@@ -205,10 +209,10 @@ def _run_group(c, y0, ydot0, k_t, cycle, shape, t_end, dt, lanes, switches, flag
                 continue
             flying = False  # a lane that lands is flagged: the piece applies the touchdown
             set_piece(piece, a, h)
-            n_flagged = _vector_pass(
+            n_flagged, first = _vector_pass(
                 lanes, n, a, piece, h * tape[r, nt.INT1], h * h * tape[r, nt.KINT1]
             )
-            for i in range(n):
+            for i in range(first, n):
                 if n_flagged == 0:
                     break
                 if lanes[FLAG, i] != 0.0:
