@@ -181,7 +181,7 @@ def _first_stop(a, crit, h, tau_a, v_a, s, fm, km, level):
     return 2.0
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def lane_piece(a, crit, h, fm, km, n_release, n_balance, direction, x, v, mode):
     """(x, ẋ, mode, switches) of one lane at the end of a piece of length h [s] whose
     normal force is the quartic ``a`` with critical points ``crit``, through its
