@@ -82,8 +82,10 @@ SPRING_S_PER_SETUP_STEP = 0.5e-6
 # (spring) and ~90 ns (Mindlin) a step besides the lanes; rounded up ~2.2x.
 COMPLIANT_S_PER_REPEATED_ROW = 0.2e-6
 # In-process, time chunks are computed LOCAL_BATCH at a time in one shared-normal run
-# (sweeps/runner.py), which spreads their set-ups over the threads: a forced model's
-# chunks, one set-up each, so run up to that many at once.
+# (sweeps/runner.py), which spreads their set-ups over the threads (a forced model's chunk
+# is one set-up: alone, it would keep a single core busy) and lets set-ups that differ
+# only in friction coefficients share a tape; small enough for a lively progress bar.
+# The estimate counts a forced model's chunks as run that many at once.
 LOCAL_BATCH = 16
 # "time" sweeps of a MindlinSpring (microslip.integrators.mindlin_lanes): the same lanes'
 # cost, and per set-up step the tape and the piece's stiffness, stop-function quartics

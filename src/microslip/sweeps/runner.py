@@ -131,13 +131,9 @@ def _checked(spec: SweepSpec, key, block) -> np.ndarray:
     return block
 
 
-# In-process, time chunks are computed LOCAL_BATCH at a time in one shared-normal run,
-# which spreads their set-ups over the cores (a forced model's chunk is one set-up: one at
-# a time, each would keep a single core busy) and lets set-ups that differ only in
-# friction coefficients share a tape. Small enough for a lively progress bar; in cost.py,
-# whose estimate counts on it.
-# ... and at most this many lanes in all (~190 B each: the in-memory chunk cap), so that
-# batching never holds more than one large chunk's buffers.
+# In-process, time chunks are computed in batches of up to LOCAL_BATCH chunks (why: at
+# its definition in cost.py) and of at most this many lanes in all (~190 B each: the
+# in-memory chunk cap), so that batching never holds more than one large chunk's buffers.
 BATCH_LANES = 2**18
 
 # At most this many bytes of finished chunks wait for the store's writer thread: where the
