@@ -3,7 +3,7 @@
 With m2 = 1 the force S c_n δ (1 + c δ̇/(m g)) falls to 0 at δ = 0 with slope S c_n δ̇,
 not 0. The loss is located to just past δ = 0, where the law's stiffness is 0; the
 quartic of the piece that the loss closes must take the slope seen from inside the
-contact (integrators/normal_tape.py, ``_end_values``). With the slope 0 there, that
+contact (integrators/normal_step.py, ``end_values``). With the slope 0 there, that
 piece's N was 1e-3 m g off and every lane sliding through it (rigid, spring and
 Mindlin lanes alike) 2.8e-6 to 1.4e-5 of max v off the event method.
 

@@ -2,9 +2,10 @@
 
 The normal motion never depends on the tangential one (docs/design.md): at a given
 normal set-up (contact law, damping, excitation, initial normal state) it is the same
-for every force, friction coefficient and drive. :func:`fill_tape` integrates it with the
-core RK4 kernel (:func:`~microslip.integrators.kernel.integrate_chunk`, fixed steps on
-the grid k·dt, every contact switch located) on a copy of the model whose tangential
+for every force, friction coefficient and drive. :func:`fill_tape` integrates it as the
+core RK4 kernel does (:func:`~microslip.integrators.kernel.integrate_chunk`: fixed steps
+on the grid k·dt, every contact switch located; the step and the search on (y, ẏ)
+alone: :mod:`~microslip.integrators.normal_step`) on a copy of the model whose tangential
 side cannot switch (a kinematic drive on a rigid contact: only the contact functions are
 active), so the normal states on the grid are those of ``simulate(method="rk4")`` up to
 the first tangential switch of a trajectory.
@@ -45,8 +46,7 @@ from microslip.integrators.kernel import (
     as_tuple,
     next_grid_point,
 )
-from microslip.integrators.methods import RK4, WORK_ROWS, advance
-from microslip.integrators.switching import first_switch, method_for, two_sided_may_flip
+from microslip.integrators.normal_step import contact_switch, end_values, may_switch, rk4
 
 # A row's columns and the quartic of its piece are tape_row's; all its names are
 # re-exported here (callers read nt.ROW, nt.H, nt.poly, nt.integral, ...).
@@ -100,22 +100,10 @@ from microslip.model.coefficients import (
     TANGENTIAL_KIND,
     TANGENTIAL_STIFFNESS,
 )
-from microslip.model.damping import can_separate_in_overlap
 from microslip.model.drive import KINEMATIC
-from microslip.model.excitation import is_prescribed
 from microslip.model.friction import COULOMB
-from microslip.model.normal import (
-    acceleration_from_force,
-    gap,
-    normal_acceleration,
-    raw_normal_force,
-)
-from microslip.model.switches import apply_switch, initial_mode
-from microslip.model.switching_functions import (
-    contact_side_rate,
-    separation_rate,
-    separation_value,
-)
+from microslip.model.normal import gap, normal_force, raw_normal_force
+from microslip.model.switches import contact_event, rigid_contact_mode, rigid_initial_mode
 from microslip.model.system import N_STATE, airborne
 from microslip.model.tangential import RIGID
 
@@ -150,39 +138,12 @@ def normal_key(c: np.ndarray) -> bytes:
     return out.tobytes()
 
 
-# fill_tape's per-step helpers are inlined into it (inline="always"), and it takes their
-# error model: each compiled call passed the coefficient tuple (SIZE floats) by value, a
-# third of a step's cost (docs/design.md, "Compile time").
-@njit(cache=True, error_model="numpy", inline="always")
-def _end_values(t, y, ydot, c):
-    """(ÿ [m/s^2], N_raw [N], dN_raw/dt [N/s], δ [m], δ̇ [m/s], dN/dt in contact [N/s])
-    at a piece end: the normal acceleration, the SEPARATION function and its rate (the
-    raw law: continuous through a separation inside the overlap, where the clipped N has
-    a kink), the CONTACT_GAP function and its rate, and the rate seen from inside the
-    contact (:func:`~microslip.model.switching_functions.contact_side_rate`: at a loss
-    of contact at δ = 0 the piece before it ends with the law's slope, S c_n δ̇ for
-    m2 = 1, where SEPARATION's rate, past δ = 0, is 0). Computed once per boundary: the
-    quartics on either side, the screening of the step and the next step's first RK4
-    stage share them."""
-    delta, delta_rate, third = gap(t, y, ydot, c)
-    acceleration = normal_acceleration(t, y, ydot, c)
-    delta_accel = third if is_prescribed(c) else acceleration - third
-    return (
-        acceleration,
-        separation_value(delta, delta_rate, c),
-        separation_rate(delta, delta_rate, delta_accel, c),
-        delta,
-        delta_rate,
-        contact_side_rate(delta, delta_rate, delta_accel, c),
-    )
-
-
 @njit(cache=True, inline="always")
 def piece_coefficients(t0, y0, v0, ends0, t1, y1, v1, ends1, c):
     """The quartic (a0, ..., a4) [N] of the normal force over the piece from
     (t0, y0, ẏ0) to (t1, y1, ẏ1) of a normal motion in coefficients ``c``; zeros in
-    flight. ``ends0``, ``ends1`` are :func:`_end_values` there (computed once per
-    boundary, shared by the pieces on either side)."""
+    flight. ``ends0``, ``ends1`` are :func:`~microslip.integrators.normal_step.end_values`
+    there (computed once per boundary, shared by the pieces on either side)."""
     h = t1 - t0
     acc0, n0, rate0 = ends0[0], ends0[1], ends0[5]
     acc1, n1, rate1 = ends1[0], ends1[1], ends1[5]
@@ -198,7 +159,7 @@ def piece_coefficients(t0, y0, v0, ends0, t1, y1, v1, ends1, c):
     return _quartic(n0, h * rate0, n_mid, n1, h * rate1)
 
 
-WORK_SCRATCH = WORK_ROWS + 6  # rows of the ``work`` scratch of :func:`fill_tape`
+WORK_SCRATCH = 1  # rows of the ``work`` scratch of :func:`fill_tape`: the start state
 
 # Slots of the carry vector of a tape integration.
 C_T, C_Y, C_YDOT, C_K, C_MODE = range(5)
@@ -225,55 +186,14 @@ def tape_buffers(y0, ydot0):
     return start_tape(y0, ydot0), tape, work
 
 
-@njit(cache=True, inline="always")
-def _held_acceleration(t, y, v, c, flight):
-    """ÿ [m/s^2] at a stage: N = 0 in flight, else the law at the stage state."""
-    if flight:
-        return acceleration_from_force(t, 0.0, c)
-    return normal_acceleration(t, y, v, c)
-
-
-@njit(cache=True, error_model="numpy", inline="always")
-def _rk4(t, h, t1, y, v, a1, c, flight):
-    """One RK4 step of the normal motion alone: the arithmetic of
-    :func:`~microslip.integrators.steppers.rk4_step` on the (y, ẏ) components; ``a1`` is
-    ÿ at the step start (from :func:`_end_values`). In ``flight`` N = 0 at every stage
-    (the mode holds the contact: :func:`~microslip.model.system.derivatives`). The last
-    stage is at ``t1``, the step's end (its grid point), which is t + h to the bit
-    wherever t >= t1/2 (then h = t1 - t is exact, by Sterbenz's lemma): every step but
-    one that starts at a switch inside the first grid interval. Written so, the
-    excitation's value at t1 is shared with the step's end values (:func:`_end_values`),
-    one sin a step fewer for a harmonic excitation."""
-    hh = 0.5 * h
-    y2, v2 = y + hh * v, v + hh * a1
-    a2 = _held_acceleration(t + hh, y2, v2, c, flight)
-    y3, v3 = y + hh * v2, v + hh * a2
-    a3 = _held_acceleration(t + hh, y3, v3, c, flight)
-    y4, v4 = y + h * v3, v + h * a3
-    a4 = _held_acceleration(t1, y4, v4, c, flight)
-    w = h / 6.0
-    return y + w * (v + 2.0 * v2 + 2.0 * v3 + v4), v + w * (a1 + 2.0 * a2 + 2.0 * a3 + a4)
-
-
-@njit(cache=True, inline="always")
-def _may_switch(h, ends0, ends1, c):
-    """False when neither contact function can flip inside the step (the screening of
-    :mod:`~microslip.integrators.switching`, on the end values)."""
-    if two_sided_may_flip(ends0[3], ends1[3], ends0[4], ends1[4], h):
-        return True
-    if can_separate_in_overlap(c):
-        return two_sided_may_flip(ends0[1], ends1[1], ends0[2], ends1[2], h)
-    return False
-
-
 @njit(cache=True, error_model="numpy")
 def fill_tape(carry, c_array, t_end, dt, tape, work):
     """Integrate the normal motion on from ``carry`` and write its pieces into ``tape``.
 
     Fixed RK4 steps on the grid k·dt (the last one clipped to ``t_end``); a step in
-    which a contact function may flip goes to the core located switching
-    (:func:`~microslip.integrators.switching.first_switch`), and the piece ends at the
-    switch, as in :func:`~microslip.integrators.kernel.integrate_chunk`. ``work`` is
+    which a contact function may flip has it located
+    (:func:`~microslip.integrators.normal_step.contact_switch`), and the piece ends at
+    the switch, as in :func:`~microslip.integrators.kernel.integrate_chunk`. ``work`` is
     scratch of WORK_SCRATCH rows of N_STATE values. Returns (rows written, status):
     0 when ``t_end`` was reached, 1 when the tape is full (call again), STALLED when a
     step holds too many switches.
@@ -283,11 +203,11 @@ def fill_tape(carry, c_array, t_end, dt, tape, work):
     k = int(carry[C_K])
     mode = carry[C_MODE]
     if mode != mode:  # the start: the kinematic drive's direction (+1, it never switches)
-        start = work[WORK_ROWS]
+        start = work[0]
         start[:] = 0.0
         start[0], start[1], start[3] = y, v, 1.0
-        mode = initial_mode(t, start, c)
-    ends0 = _end_values(t, y, v, c)
+        mode = rigid_initial_mode(t, start, normal_force(t, y, v, c), c)
+    ends0 = end_values(t, y, v, c)
     rows = 0
     status = 0
     switches_in_step = 0
@@ -298,27 +218,16 @@ def fill_tape(carry, c_array, t_end, dt, tape, work):
         target, k = next_grid_point(t, 0.0, k, dt, t_end)
         h = target - t
         t1 = target
-        y1, v1 = _rk4(t, h, t1, y, v, ends0[0], c, airborne(mode))
-        ends1 = _end_values(t1, y1, v1, c)
-        if _may_switch(h, ends0, ends1, c):
-            s0, s1, piece = work[WORK_ROWS], work[WORK_ROWS + 1], work[WORK_ROWS + 2]
-            trial, extremum, atol = work[WORK_ROWS + 3], work[WORK_ROWS + 4], work[WORK_ROWS + 5]
-            s0[:] = 0.0
-            atol[:] = 0.0
-            s0[0], s0[1], s0[3] = y, v, 1.0
-            for j in range(N_STATE):  # a loop: a slice copy compiles its error message
-                s1[j] = s0[j]
-            s1[0], s1[1] = y1, v1
-            theta, which = first_switch(
-                RK4, s0, s1, t, h, mode, c, 0.0, atol, trial, extremum, work
-            )
+        y1, v1 = rk4(t, h, t1, y, v, ends0[0], c, airborne(mode))
+        ends1 = end_values(t1, y1, v1, c)
+        if may_switch(h, ends0, ends1, c):
+            theta, which = contact_switch(t, h, y, v, ends0, ends1, c, airborne(mode))
             if which >= 0 and theta < 1.0:
-                advance(method_for(RK4, which, c), s0, t, theta * h, mode, c, 0.0, atol, piece,
-                        work)  # fmt: skip
                 t1 = t + theta * h
-                mode, _ = apply_switch(which, t1, piece, mode, c)
-                y1, v1 = piece[0], piece[1]
-                ends1 = _end_values(t1, y1, v1, c)
+                y1, v1 = rk4(t, theta * h, t1, y, v, ends0[0], c, airborne(mode))
+                # The copy's contact is rigid: apply_switch's law for it.
+                mode = rigid_contact_mode(contact_event(which, t1, y1, v1, c), mode, c)
+                ends1 = end_values(t1, y1, v1, c)
                 switches_in_step += 1
                 if switches_in_step > MAX_SWITCHES_PER_STEP:
                     status = STALLED

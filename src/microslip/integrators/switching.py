@@ -30,6 +30,8 @@ atomic operations that would cost more per step than the laws.
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 from numba import njit
 
@@ -48,6 +50,7 @@ from microslip.model.system import EVENT_NAMES, N_SWITCHES, state_tuple
 __all__ = [
     "EVENT_NAMES",
     "NO_SWITCH",
+    "bracket_step",
     "first_switch",
     "locate",
     "may_switch",
@@ -85,14 +88,50 @@ def _side(which, of_rate, value):
 
 
 @njit(cache=True)
+def bracket_step(theta, lo, hi, f_lo, f_hi, retained, f_mid, same_side, slope, tolerance):
+    """One iteration of :func:`locate`'s search after a trial at fraction ``theta``
+    with value ``f_mid`` (on the side of ``f_lo`` when ``same_side``): the bracket
+    [lo, hi] and its values updated (Illinois: the end kept twice in a row has its value
+    halved), and the next trial. ``slope`` is the value's derivative in θ at the trial
+    (NaN: none, false position only); ``retained`` (-1, 0, 1) is the end kept last.
+    Returns (θ, lo, hi, f_lo, f_hi, retained); the caller bisects a θ outside (lo, hi).
+    Shared by every located search on re-stepped trials (this module's, the normal
+    tape's: :mod:`~microslip.integrators.normal_step`)."""
+    if same_side:
+        lo, f_lo = theta, f_mid
+        if retained == -1:
+            f_hi *= 0.5
+        retained = -1
+    else:
+        hi, f_hi = theta, f_mid
+        if retained == 1:
+            f_lo *= 0.5
+        retained = 1
+    if not math.isnan(slope):
+        step = f_mid / slope if slope != 0.0 else 0.0
+        if slope != 0.0 and abs(step) <= 0.25 * tolerance:
+            # Converged: probe just past the root to close the bracket from the far side.
+            theta = theta - step + (0.5 * tolerance if retained == -1 else -0.5 * tolerance)
+            return theta, lo, hi, f_lo, f_hi, retained
+        newton = theta - step
+        if slope != 0.0 and lo < newton < hi:
+            return newton, lo, hi, f_lo, f_hi, retained
+    if f_hi != f_lo:
+        theta = hi - f_hi * (hi - lo) / (f_hi - f_lo)
+    else:
+        theta = 0.5 * (lo + hi)
+    return theta, lo, hi, f_lo, f_hi, retained
+
+
+@njit(cache=True)
 def locate(which, of_rate, method, s0, t, h, mode, c, rtol, atol, lo, hi, f_lo, f_hi, trial, work):
     """Fraction θ in (lo, hi] of the step where switching function ``which`` flips
     (its rate ġ, when ``of_rate``).
 
     Each trial state is a step of length θh from ``s0`` (written into ``trial``). For g
     itself Newton steps use ġ; the bracket [lo, hi] is kept, and a trial outside it falls
-    back to Illinois false position (the only iteration for ġ). Returns the first θ
-    known to lie past the flip, to within a few ulps of t.
+    back to Illinois false position (the only iteration for ġ): :func:`bracket_step`.
+    Returns the first θ known to lie past the flip, to within a few ulps of t.
     """
     side_lo = _side(which, of_rate, f_lo)
     tolerance = 4.0 * _EPS * (abs(t) + abs(h)) / abs(h)
@@ -107,31 +146,11 @@ def locate(which, of_rate, method, s0, t, h, mode, c, rtol, atol, lo, hi, f_lo, 
         t_mid = t + theta * h
         x_mid = state_tuple(trial)
         f_mid = _evaluate(which, of_rate, t_mid, x_mid, mode, c)
-        if _side(which, of_rate, f_mid) == side_lo:
-            lo, f_lo = theta, f_mid
-            if retained == -1:
-                f_hi *= 0.5
-            retained = -1
-        else:
-            hi, f_hi = theta, f_mid
-            if retained == 1:
-                f_lo *= 0.5
-            retained = 1
-        if not of_rate:
-            slope = switching_rate(which, t_mid, x_mid, mode, c) * h
-            step = f_mid / slope if slope != 0.0 else 0.0
-            if slope != 0.0 and abs(step) <= 0.25 * tolerance:
-                # Converged: probe just past the root to close the bracket from the far side.
-                theta = theta - step + (0.5 * tolerance if retained == -1 else -0.5 * tolerance)
-                continue
-            newton = theta - step
-            if slope != 0.0 and lo < newton < hi:
-                theta = newton
-                continue
-        if f_hi != f_lo:
-            theta = hi - f_hi * (hi - lo) / (f_hi - f_lo)
-        else:
-            theta = 0.5 * (lo + hi)
+        slope = math.nan if of_rate else switching_rate(which, t_mid, x_mid, mode, c) * h
+        theta, lo, hi, f_lo, f_hi, retained = bracket_step(
+            theta, lo, hi, f_lo, f_hi, retained, f_mid, _side(which, of_rate, f_mid) == side_lo,
+            slope, tolerance,
+        )  # fmt: skip
     return hi
 
 

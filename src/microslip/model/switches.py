@@ -49,7 +49,14 @@ from microslip.model.system import (
 )
 from microslip.model.tangential import is_compliant, tangential_stiffness
 
-__all__ = ["GRAZING", "apply_switch", "initial_mode"]
+__all__ = [
+    "GRAZING",
+    "apply_switch",
+    "contact_event",
+    "initial_mode",
+    "rigid_contact_mode",
+    "rigid_initial_mode",
+]
 
 
 @njit(cache=True)
@@ -96,6 +103,13 @@ def initial_mode(t, s, c):
         direction = sign(s[FT])
         _drop_to_kinetic_limit(t, s, direction, normal, c)
         return direction
+    return rigid_initial_mode(t, s, normal, c)
+
+
+@njit(cache=True)
+def rigid_initial_mode(t, s, normal, c):
+    """:func:`initial_mode` of a rigid contact under the normal force ``normal`` [N]:
+    the slip direction (:func:`_rigid_direction`), + the flight flag out of contact."""
     offset = 0.0 if normal > 0.0 else flight_flag(c)
     return _rigid_direction(t, s, normal, c) + offset
 
@@ -164,6 +178,39 @@ def _compliant_switch(which, t, s, mode, c):
 
 
 @njit(cache=True)
+def contact_event(which, t, y, ydot, c):
+    """What contact function ``which`` (CONTACT_GAP or SEPARATION) flipping at
+    (t [s], y [m], ẏ [m/s]) does: CONTACT_MADE, CONTACT_LOST, or NO_EVENT where contact
+    does not change (the separation function while δ <= 0, the gap after a separation
+    inside the overlap). In contact means δ > 0 and N_raw > 0; the other function is
+    read at the same state to tell which side the flip came from."""
+    delta, delta_rate, _ = gap(t, y, ydot, c)
+    gap_in = delta > 0.0
+    sep_in = separation_value(delta, delta_rate, c) > 0.0
+    after = gap_in and sep_in
+    if which == CONTACT_GAP:
+        before = (not gap_in) and sep_in
+    else:
+        before = gap_in and not sep_in
+    if after and not before:
+        return CONTACT_MADE
+    if before and not after:
+        return CONTACT_LOST
+    return NO_EVENT
+
+
+@njit(cache=True)
+def rigid_contact_mode(event, mode, c):
+    """Mode of a rigid contact after a :func:`contact_event`: a touchdown drops the flight
+    flag, a lift-off adds it (:func:`~microslip.model.system.flight_flag`)."""
+    if event == CONTACT_MADE:
+        return tangential_mode(mode)
+    if event == CONTACT_LOST:
+        return mode + flight_flag(c)
+    return mode
+
+
+@njit(cache=True)
 def apply_switch(which, t, s, mode, c):
     """(new mode, event kind) after switching function ``which`` flipped at (t, s).
 
@@ -177,25 +224,14 @@ def apply_switch(which, t, s, mode, c):
     loads faster than the limit rises (:func:`_touchdown_mode`).
     """
     if which == CONTACT_GAP or which == SEPARATION:
-        delta, delta_rate, _ = gap(t, s[Y], s[YDOT], c)
-        gap_in = delta > 0.0
-        sep_in = separation_value(delta, delta_rate, c) > 0.0
-        after = gap_in and sep_in
-        if which == CONTACT_GAP:
-            before = (not gap_in) and sep_in
-        else:
-            before = gap_in and not sep_in
-        if after and not before:
-            if is_compliant(c):
-                s[FT] = 0.0
-                s[U] = s[X]
-                return _touchdown_mode(t, s, c), CONTACT_MADE
-            return tangential_mode(mode), CONTACT_MADE
-        if before and not after:
-            if is_compliant(c):
-                return _lift_off(s)
-            return mode + flight_flag(c), CONTACT_LOST
-        return mode, NO_EVENT
+        event = contact_event(which, t, s[Y], s[YDOT], c)
+        if event == CONTACT_MADE and is_compliant(c):
+            s[FT] = 0.0
+            s[U] = s[X]
+            return _touchdown_mode(t, s, c), CONTACT_MADE
+        if event == CONTACT_LOST and is_compliant(c):
+            return _lift_off(s)
+        return rigid_contact_mode(event, mode, c), event
     if is_compliant(c):
         return _compliant_switch(which, t, s, mode, c)
     # A rigid contact keeps its flight flag (the contact switches set it).
