@@ -25,6 +25,7 @@ from microslip.integrators import (
     lane_parking,
     methods,
     mindlin_lanes,
+    normal_step,
     shared_lanes,
     switching,
 )
@@ -45,6 +46,10 @@ DISPATCHERS = {
     "_screen": switching._screen,
     "_resolve": switching._resolve,
     "locate": switching.locate,
+    "bracket_step": switching.bracket_step,
+    "contact_switch": normal_step.contact_switch,
+    "normal_step._locate": normal_step._locate,
+    "contact_event": switches.contact_event,
     "may_switch": switching.may_switch,
     "first_switch": switching.first_switch,
     "piece_end": kernel.piece_end,

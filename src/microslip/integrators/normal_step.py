@@ -27,7 +27,12 @@ import numpy as np
 from numba import njit
 
 from microslip import _jit_cache  # noqa: F401  (registers the cache before any @njit)
-from microslip.integrators.switching import NO_SWITCH, bracket_step, two_sided_may_flip
+from microslip.integrators.switching import (
+    NO_SWITCH,
+    NONE_RETAINED,
+    bracket_step,
+    two_sided_may_flip,
+)
 from microslip.model.damping import can_separate_in_overlap
 from microslip.model.excitation import is_prescribed
 from microslip.model.normal import acceleration_from_force, gap, normal_acceleration
@@ -129,7 +134,7 @@ def _locate(which, of_rate, t, h, y, v, a0, c, flight, lo, hi, f_lo, f_hi):
     (``a0`` = ÿ at the step start). Returns the first θ known to lie past the flip."""
     side_lo = f_lo > 0.0
     tolerance = 4.0 * _EPS * (abs(t) + abs(h)) / abs(h)
-    retained = 0
+    retained = NONE_RETAINED
     theta = hi - f_hi * (hi - lo) / (f_hi - f_lo) if f_hi != f_lo else 0.5 * (lo + hi)
     for _ in range(200):
         if hi - lo <= tolerance:

@@ -49,6 +49,7 @@ from microslip.model.system import EVENT_NAMES, N_SWITCHES, state_tuple
 
 __all__ = [
     "EVENT_NAMES",
+    "NONE_RETAINED",
     "NO_SWITCH",
     "bracket_step",
     "first_switch",
@@ -71,6 +72,9 @@ _EXTREMUM = 2  # g may cross at an interior extremum (a root of ġ)
 # compile locate (and the step it inlines) once per value.
 _OF_RATE = np.bool_(True)
 _OF_VALUE = np.bool_(False)
+# No end of the bracket kept yet (:func:`bracket_step`): a NumPy integer, or the first
+# call would pass a literal 0 and compile bracket_step a second time.
+NONE_RETAINED = np.int64(0)
 
 
 @njit(cache=True)
@@ -135,7 +139,7 @@ def locate(which, of_rate, method, s0, t, h, mode, c, rtol, atol, lo, hi, f_lo, 
     """
     side_lo = _side(which, of_rate, f_lo)
     tolerance = 4.0 * _EPS * (abs(t) + abs(h)) / abs(h)
-    retained = 0
+    retained = NONE_RETAINED
     theta = hi - f_hi * (hi - lo) / (f_hi - f_lo) if f_hi != f_lo else 0.5 * (lo + hi)
     for _ in range(200):
         if hi - lo <= tolerance:
