@@ -198,6 +198,8 @@ def _first_exit(kind, a, p, bound2, bound3, noise, lo, hi):
         g1, r1, c1, g2, r2, c2 = _value(kind, a, p, tau)
         if not _inside(kind, min(g1, g2) + noise):
             return tau
+        if tau >= hi:  # the end, inside
+            return 2.0
         step = min(
             safe_step(g1 + noise, r1, c1, bound2, bound3),
             safe_step(g2 + noise, r2, c2, bound2, bound3),
@@ -209,8 +211,9 @@ def _first_exit(kind, a, p, bound2, bound3, noise, lo, hi):
         # of g + noise, where its rounding leaves it inside about half the time.
         tau += step + 0.5 * _TAU_TOLERANCE
         if tau >= hi:
-            g1, _, _, g2, _, _ = _value(kind, a, p, hi)
-            return hi if not _inside(kind, min(g1, g2) + noise) else 2.0
+            # Past the end by less than half a tolerance: the end decides, at the one
+            # evaluation of g above (inlined, as every site of it: docs/design.md).
+            tau = hi
     return -1.0
 
 
