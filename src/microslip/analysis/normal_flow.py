@@ -29,6 +29,8 @@ g = δ is [[1, 0], [(ÿ⁺ - ÿ⁻)/δ̇, 1]]; the elastic law and Hunt–Crossl
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 from numba import njit
 
@@ -38,6 +40,7 @@ from microslip.integrators.dop853_tableau import N_STAGES
 from microslip.integrators.dop853_tableau import A as _A
 from microslip.integrators.dop853_tableau import B as _B
 from microslip.integrators.dop853_tableau import C as _C
+from microslip.integrators.switching import bracket_start, bracket_step
 from microslip.model.coefficients import GRAVITY, MASS, STATIC_DEFLECTION, as_tuple
 from microslip.model.contact import elastic_force, elastic_stiffness
 from microslip.model.damping import can_separate_in_overlap, damped_force_partials
@@ -61,7 +64,6 @@ S_FLIGHT = 4  # 1.0 if the motion left contact somewhere
 S_EVENTS = 5  # number of contact switches
 S_SIZE = 6
 
-_EPS = 2.220446049250313e-16
 _DIM = 6  # y, ẏ, Φ00, Φ01, Φ10, Φ11
 _STATE = np.int64(2)  # y, ẏ alone (np.int64: no literal specialisation of the callees)
 # ``variational`` of propagate_each (NumPy bools: one compiled form for both).
@@ -170,26 +172,16 @@ def _locate(which, s0, t, h, c, contact, lo, hi, f_lo, f_hi, k, tmp, out):
     Returns the first θ known to lie past the sign change, to a few ulps of t.
     """
     side_lo = f_lo > 0.0
-    tolerance = 4.0 * _EPS * (abs(t) + abs(h)) / abs(h)
-    retained = 0
+    theta, tolerance, retained = bracket_start(t, h, lo, hi, f_lo, f_hi)
     for _ in range(200):
         if hi - lo <= tolerance:
             break
-        theta = hi - f_hi * (hi - lo) / (f_hi - f_lo) if f_hi != f_lo else 0.5 * (lo + hi)
-        if not (lo < theta < hi):
-            theta = 0.5 * (lo + hi)
         _step(t, s0, theta * h, c, contact, k, tmp, out, _STATE)
         f_mid = _value(which, t + theta * h, out, c, contact)
-        if (f_mid > 0.0) == side_lo:
-            lo, f_lo = theta, f_mid
-            if retained == -1:
-                f_hi *= 0.5
-            retained = -1
-        else:
-            hi, f_hi = theta, f_mid
-            if retained == 1:
-                f_lo *= 0.5
-            retained = 1
+        theta, lo, hi, f_lo, f_hi, retained = bracket_step(
+            theta, lo, hi, f_lo, f_hi, retained, f_mid, (f_mid > 0.0) == side_lo, math.nan,
+            tolerance,
+        )  # fmt: skip
     return hi
 
 

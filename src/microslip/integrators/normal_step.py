@@ -29,7 +29,7 @@ from numba import njit
 from microslip import _jit_cache  # noqa: F401  (registers the cache before any @njit)
 from microslip.integrators.switching import (
     NO_SWITCH,
-    NONE_RETAINED,
+    bracket_start,
     bracket_step,
     two_sided_may_flip,
 )
@@ -43,7 +43,6 @@ from microslip.model.switching_functions import (
 )
 from microslip.model.system import CONTACT_GAP, SEPARATION
 
-_EPS = 2.220446049250313e-16
 # ``of_rate`` of :func:`_locate` as NumPy booleans: a literal True/False would make numba
 # compile it once per value (as switching.locate's).
 _OF_RATE = np.bool_(True)
@@ -133,14 +132,10 @@ def _locate(which, of_rate, t, h, y, v, a0, c, flight, lo, hi, f_lo, f_hi):
     :func:`~microslip.integrators.switching.locate` on trial steps of :func:`rk4`
     (``a0`` = ÿ at the step start). Returns the first θ known to lie past the flip."""
     side_lo = f_lo > 0.0
-    tolerance = 4.0 * _EPS * (abs(t) + abs(h)) / abs(h)
-    retained = NONE_RETAINED
-    theta = hi - f_hi * (hi - lo) / (f_hi - f_lo) if f_hi != f_lo else 0.5 * (lo + hi)
+    theta, tolerance, retained = bracket_start(t, h, lo, hi, f_lo, f_hi)
     for _ in range(200):
         if hi - lo <= tolerance:
             break
-        if not (lo < theta < hi):
-            theta = 0.5 * (lo + hi)
         t_mid = t + theta * h
         y_mid, v_mid = rk4(t, theta * h, t_mid, y, v, a0, c, flight)
         g, rate = _function(which, end_values(t_mid, y_mid, v_mid, c))

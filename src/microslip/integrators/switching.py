@@ -51,6 +51,7 @@ __all__ = [
     "EVENT_NAMES",
     "NONE_RETAINED",
     "NO_SWITCH",
+    "bracket_start",
     "bracket_step",
     "first_switch",
     "locate",
@@ -91,6 +92,23 @@ def _side(which, of_rate, value):
     return inside(which, value)
 
 
+@njit(cache=True, inline="always")
+def _inside_bracket(theta, lo, hi):
+    """θ where it lies inside (lo, hi), else the middle (a bisection)."""
+    return theta if lo < theta < hi else 0.5 * (lo + hi)
+
+
+@njit(cache=True)
+def bracket_start(t, h, lo, hi, f_lo, f_hi):
+    """(θ, tolerance, retained) that start a search of :func:`bracket_step` for a sign
+    change in [lo, hi] of a step from t [s] of length h [s], with values ``f_lo``,
+    ``f_hi`` at the ends: the false-position trial, the tolerance in θ (a few ulps of
+    t) and no end kept yet."""
+    tolerance = 4.0 * _EPS * (abs(t) + abs(h)) / abs(h)
+    theta = hi - f_hi * (hi - lo) / (f_hi - f_lo) if f_hi != f_lo else 0.5 * (lo + hi)
+    return _inside_bracket(theta, lo, hi), tolerance, NONE_RETAINED
+
+
 @njit(cache=True)
 def bracket_step(theta, lo, hi, f_lo, f_hi, retained, f_mid, same_side, slope, tolerance):
     """One iteration of :func:`locate`'s search after a trial at fraction ``theta``
@@ -98,9 +116,10 @@ def bracket_step(theta, lo, hi, f_lo, f_hi, retained, f_mid, same_side, slope, t
     [lo, hi] and its values updated (Illinois: the end kept twice in a row has its value
     halved), and the next trial. ``slope`` is the value's derivative in θ at the trial
     (NaN: none, false position only); ``retained`` (-1, 0, 1) is the end kept last.
-    Returns (θ, lo, hi, f_lo, f_hi, retained); the caller bisects a θ outside (lo, hi).
-    Shared by every located search on re-stepped trials (this module's, the normal
-    tape's: :mod:`~microslip.integrators.normal_step`)."""
+    Returns (θ, lo, hi, f_lo, f_hi, retained), θ inside (lo, hi). Shared by every
+    located search on re-stepped trials: this module's, the normal tape's
+    (:mod:`~microslip.integrators.normal_step`) and the normal flow's
+    (:mod:`~microslip.analysis.normal_flow`)."""
     if same_side:
         lo, f_lo = theta, f_mid
         if retained == -1:
@@ -116,7 +135,7 @@ def bracket_step(theta, lo, hi, f_lo, f_hi, retained, f_mid, same_side, slope, t
         if slope != 0.0 and abs(step) <= 0.25 * tolerance:
             # Converged: probe just past the root to close the bracket from the far side.
             theta = theta - step + (0.5 * tolerance if retained == -1 else -0.5 * tolerance)
-            return theta, lo, hi, f_lo, f_hi, retained
+            return _inside_bracket(theta, lo, hi), lo, hi, f_lo, f_hi, retained
         newton = theta - step
         if slope != 0.0 and lo < newton < hi:
             return newton, lo, hi, f_lo, f_hi, retained
@@ -124,7 +143,7 @@ def bracket_step(theta, lo, hi, f_lo, f_hi, retained, f_mid, same_side, slope, t
         theta = hi - f_hi * (hi - lo) / (f_hi - f_lo)
     else:
         theta = 0.5 * (lo + hi)
-    return theta, lo, hi, f_lo, f_hi, retained
+    return _inside_bracket(theta, lo, hi), lo, hi, f_lo, f_hi, retained
 
 
 @njit(cache=True)
@@ -138,14 +157,10 @@ def locate(which, of_rate, method, s0, t, h, mode, c, rtol, atol, lo, hi, f_lo, 
     Returns the first θ known to lie past the flip, to within a few ulps of t.
     """
     side_lo = _side(which, of_rate, f_lo)
-    tolerance = 4.0 * _EPS * (abs(t) + abs(h)) / abs(h)
-    retained = NONE_RETAINED
-    theta = hi - f_hi * (hi - lo) / (f_hi - f_lo) if f_hi != f_lo else 0.5 * (lo + hi)
+    theta, tolerance, retained = bracket_start(t, h, lo, hi, f_lo, f_hi)
     for _ in range(200):
         if hi - lo <= tolerance:
             break
-        if not (lo < theta < hi):
-            theta = 0.5 * (lo + hi)
         advance(method, s0, t, theta * h, mode, c, rtol, atol, trial, work)
         t_mid = t + theta * h
         x_mid = state_tuple(trial)
