@@ -8,7 +8,11 @@ mode at a state (:func:`initial_mode`, eq. 2.2) and the new mode, the event reco
 the state set after a switching function flipped (:func:`apply_switch`). A slider comes
 to rest and sticks or slides on (eq. 2.2); a compliant contact point starts to slip (its
 spring force drops to the kinetic limit), sticks, lifts off (the spring relaxes) or
-lands (relaxed, and stuck unless the touchdown grazes, :func:`_touchdown_mode`).
+lands (relaxed, and stuck unless the touchdown grazes, :func:`_touchdown_mode`). The
+rigid contact's part of both, and what a contact function's flip means
+(:func:`rigid_initial_mode`, :func:`contact_event`, :func:`rigid_contact_mode`), are
+functions of their own: the normal tape, whose copy of the model has a rigid contact,
+calls them without compiling the rest (:mod:`microslip.integrators.normal_step`).
 """
 
 from __future__ import annotations
