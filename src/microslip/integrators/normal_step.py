@@ -107,22 +107,28 @@ def rk4(t, h, t1, y, v, a1, c, flight):
 
 
 @njit(cache=True, inline="always")
-def may_switch(h, ends0, ends1, c):
-    """False when neither contact function can flip inside the step (the screening of
-    :mod:`~microslip.integrators.switching`, on the end values)."""
-    if two_sided_may_flip(ends0[3], ends1[3], ends0[4], ends1[4], h):
-        return True
-    if can_separate_in_overlap(c):
-        return two_sided_may_flip(ends0[1], ends1[1], ends0[2], ends1[2], h)
-    return False
-
-
-@njit(cache=True, inline="always")
 def _function(which, ends):
     """(g, ġ) of contact function ``which`` from :func:`end_values`."""
     if which == CONTACT_GAP:
         return ends[3], ends[4]
     return ends[1], ends[2]
+
+
+@njit(cache=True, inline="always")
+def _may_flip(which, h, ends0, ends1):
+    """The screening of :mod:`~microslip.integrators.switching` of contact function
+    ``which`` over a step of length h [s], on the end values."""
+    g0, r0 = _function(which, ends0)
+    g1, r1 = _function(which, ends1)
+    return two_sided_may_flip(g0, g1, r0, r1, h)
+
+
+@njit(cache=True, inline="always")
+def may_switch(h, ends0, ends1, c):
+    """False when neither contact function can flip inside the step."""
+    if _may_flip(CONTACT_GAP, h, ends0, ends1):
+        return True
+    return can_separate_in_overlap(c) and _may_flip(SEPARATION, h, ends0, ends1)
 
 
 @njit(cache=True, error_model="numpy")
@@ -160,10 +166,10 @@ def contact_switch(t, h, y, v, ends0, ends1, c, flight):
     for which in (CONTACT_GAP, SEPARATION):
         if which == SEPARATION and not can_separate_in_overlap(c):
             continue
+        if not _may_flip(which, h, ends0, ends1):
+            continue
         g0, r0 = _function(which, ends0)
         g1, r1 = _function(which, ends1)
-        if not two_sided_may_flip(g0, g1, r0, r1, h):
-            continue
         in0 = g0 > 0.0
         if (g1 > 0.0) != in0:
             theta = _locate(which, _OF_VALUE, t, h, y, v, ends0[0], c, flight, 0.0, 1.0, g0, g1)
