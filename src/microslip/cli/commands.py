@@ -13,7 +13,6 @@ import json
 import os
 import shutil
 import sys
-import time
 import uuid
 from collections.abc import Callable
 from pathlib import Path
@@ -22,6 +21,7 @@ import numpy as np
 
 from microslip.cli.interrupts import RUN, uninterruptible
 from microslip.cli.options import CliError, Options, gather, refuse_underscores
+from microslip.cli.timing import CommandTimer
 
 ALL_FIGURES = ("fig2", "fig3", "fig4", "fig5", "fig6", "fig7")
 # The extensions' figures (plotting/extensions.py; ``figures --extensions``)
@@ -197,28 +197,27 @@ def cmd_simulate(args: argparse.Namespace) -> int:
             rtol=opts.get("rtol", DEFAULT_RTOL),
         )
         thinned = save_every > 1
-    started = time.perf_counter()
-    result = ms.simulate(
-        model,
-        force=force,
-        duration=duration,
-        amplitude=opts.get("amplitude"),
-        initial_state=initial_state,
-        method=method,
-        dt=opts.get("dt"),
-        rtol=opts.get("rtol"),
-        atol=opts.get("atol"),
-        t_eval=t_eval,
-        save_every=save_every,
-        allow_large=allow_large,
-    )
-    elapsed = time.perf_counter() - started
+    with CommandTimer("simulate") as timer:
+        result = ms.simulate(
+            model,
+            force=force,
+            duration=duration,
+            amplitude=opts.get("amplitude"),
+            initial_state=initial_state,
+            method=method,
+            dt=opts.get("dt"),
+            rtol=opts.get("rtol"),
+            atol=opts.get("atol"),
+            t_eval=t_eval,
+            save_every=save_every,
+            allow_large=allow_large,
+        )
     kinds = [k for _, k in result.events]
     # the slider's own displacement over the run: x(0) need not be 0 (--initial-state)
     span = float(result.t[-1])
     mean_v = (result.x[-1] - result.x[0]) / span if span > 0 else float("nan")
     print(
-        f"simulated {span:.6g} s with {result.method} in {elapsed:.3f} s: "
+        f"simulated {span:.6g} s with {result.method} {timer.took(3)}: "
         f"x = {result.x[-1]:.6e} m, mean velocity (x(T)-x(0))/T = {mean_v:.6e} m/s, "
         f"{kinds.count('slip_start')} slip starts, {kinds.count('stick_start')} sticks, "
         f"{kinds.count('contact_lost')} losses of contact, {result.t.size} samples"
@@ -356,10 +355,10 @@ def _write_figures(out_dir: Path, opts: Options, names, dpi: int, batch) -> list
 
     quiet = bool(opts.get("quiet", False))
     say = (lambda message: None) if quiet else (lambda message: print(message, flush=True))
-    started = time.perf_counter()
+    timer = CommandTimer("figures", quiet=quiet)
     work = out_dir / f".figures.{uuid.uuid4().hex[:8]}.partial"
     try:
-        with batch:
+        with timer, batch:
             try:
                 paths = write_figures(work, opts.params, names, dpi=dpi, progress=say)
             except FigureNotDrawable as error:  # keep what its message says was written
@@ -372,7 +371,7 @@ def _write_figures(out_dir: Path, opts: Options, names, dpi: int, batch) -> list
             written = _commit(batch)
     finally:
         shutil.rmtree(work, ignore_errors=True)
-    print(f"wrote {len(written)} files to {out_dir} in {time.perf_counter() - started:.1f} s")
+    print(f"wrote {len(written)} files to {out_dir} {timer.took(1)}")
     return written
 
 

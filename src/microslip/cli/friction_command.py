@@ -13,7 +13,6 @@ everything (the model at both ends of each range, the outputs) before computing.
 from __future__ import annotations
 
 import argparse
-import time
 from collections.abc import Callable
 from typing import Any
 
@@ -21,6 +20,7 @@ import numpy as np
 
 from microslip.cli.commands import _output_path, _same_file, write_outputs
 from microslip.cli.options import CliError, Options, finite, gather, parse_range
+from microslip.cli.timing import CommandTimer
 
 __all__ = ["add_friction_command", "cmd_friction", "summary_lines"]
 
@@ -147,14 +147,13 @@ def cmd_friction(args: argparse.Namespace) -> int:
         effective_friction_map,
     )
 
-    started = time.perf_counter()
     amplitude = opts.get("amplitude")
-    if axis is None:
-        ds = effective_friction_curve(model, velocities, amplitude=amplitude)
-    else:
-        ds = effective_friction_map(model, velocities, axis[0], axis[1], amplitude=amplitude)
-    elapsed = time.perf_counter() - started
-    for line in summary_lines(ds, elapsed):
+    with CommandTimer("friction") as timer:
+        if axis is None:
+            ds = effective_friction_curve(model, velocities, amplitude=amplitude)
+        else:
+            ds = effective_friction_map(model, velocities, axis[0], axis[1], amplitude=amplitude)
+    for line in summary_lines(ds, timer.took()):
         print(line)
     write_outputs(out, plot, overwrite, lambda: ds, lambda tmp: _draw(ds, tmp))
     return 0
@@ -180,13 +179,14 @@ def _unit(ds: Any, name: str) -> str:
     return "" if unit in ("", "1") else f" {unit}"
 
 
-def summary_lines(ds: Any, elapsed: float | None = None) -> list[str]:
+def summary_lines(ds: Any, took: str = "") -> list[str]:
     """A short summary of an effective-friction Dataset: the smallest μ_eff/μ_k, where,
-    and where the sliding velocity crosses the critical ṽ = 1."""
+    and where the sliding velocity crosses the critical ṽ = 1; ``took`` how long it took
+    (:meth:`~microslip.cli.timing.CommandTimer.took`)."""
     ratio = np.asarray(ds["ratio"].values, dtype=float)
     mu_eff = np.asarray(ds["mu_eff"].values, dtype=float)
     v = np.asarray(ds["velocity"].values, dtype=float)
-    took = f" in {elapsed:.2f} s" if elapsed is not None else ""
+    took = f" {took}" if took else ""
     dims = list(ds["ratio"].dims)
     other = next((d for d in dims if d != "velocity"), None)
     shape = " x ".join(f"{ds.sizes[d]} {d}" for d in dims)

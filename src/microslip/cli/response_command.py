@@ -10,13 +10,13 @@ checks everything (the model, both ends of the range, the outputs) before comput
 from __future__ import annotations
 
 import argparse
-import time
 
 import numpy as np
 
 from microslip.cli.commands import _output_path, _same_file, write_outputs
 from microslip.cli.model_options import require_paper_tangential
 from microslip.cli.options import CliError, Options, gather, refuse_underscores
+from microslip.cli.timing import CommandTimer
 
 __all__ = ["cmd_response", "parse_pair", "summary_lines"]
 
@@ -91,10 +91,9 @@ def cmd_response(args: argparse.Namespace) -> int:
         raise CliError(f"{opts.flag('out')} and {opts.flag('plot')} name the same file")
 
     kwargs = {} if max_points is None else {"max_points": max_points}
-    started = time.perf_counter()
-    ds = forced_response(model, **{name: (start, end)}, **kwargs)
-    elapsed = time.perf_counter() - started
-    for line in summary_lines(ds, name, elapsed):
+    with CommandTimer("response") as timer:
+        ds = forced_response(model, **{name: (start, end)}, **kwargs)
+    for line in summary_lines(ds, name, timer.took()):
         print(line)
     from microslip.plotting.response import write_response_plot
 
@@ -108,15 +107,16 @@ def _spans(mask: np.ndarray) -> list[tuple[int, int]]:
     return list(zip(np.flatnonzero(edges == 1), np.flatnonzero(edges == -1) - 1, strict=True))
 
 
-def summary_lines(ds, name: str = "frequencies", elapsed: float | None = None) -> list[str]:
-    """A short summary of a forced-response Dataset: points, folds, contact loss."""
+def summary_lines(ds, name: str = "frequencies", took: str = "") -> list[str]:
+    """A short summary of a forced-response Dataset: points, folds, contact loss; ``took``
+    how long it took (:meth:`~microslip.cli.timing.CommandTimer.took`)."""
     from microslip.plotting.response import fold_indices
 
     variable, unit = ("frequency", "Hz") if name == "frequencies" else ("excitation_amplitude", "")
     unit = ds[variable].attrs.get("units", unit)
     values = np.asarray(ds[variable].values, dtype=float)
     stable = np.asarray(ds["stable"].values, dtype=bool)
-    took = f" in {elapsed:.2f} s" if elapsed is not None else ""
+    took = f" {took}" if took else ""
     lines = [
         f"{values.size} branch points{took}, {variable} from {values[0]:.6g} to "
         f"{values[-1]:.6g} {unit}; {int(stable.sum())} stable, {int((~stable).sum())} unstable; "

@@ -8,7 +8,6 @@ from __future__ import annotations
 
 import argparse
 import sys
-import time
 from pathlib import Path
 
 import numpy as np
@@ -17,6 +16,7 @@ from microslip.cli.commands import _check_method, _commit, _note, _output_path, 
 from microslip.cli.interrupts import RUN, interrupt_for
 from microslip.cli.model_options import require_paper_tangential
 from microslip.cli.options import CliError, Options, gather, refuse_underscores
+from microslip.cli.timing import CommandTimer
 
 # A run estimated at least this long [s] says so before it starts: a log (no progress bar
 # off a terminal) then shows what to expect, and where a Ctrl-C leaves its work.
@@ -168,9 +168,12 @@ def cmd_sweep(args: argparse.Namespace) -> int:
             f"{spec.n_chunks} chunks, estimated to take about {duration_text(seconds)} "
             f"here; Ctrl-C keeps the finished chunks in {work_store} for a rerun to resume"
         )
-    started = time.perf_counter()
     # One run per output at a time: a second one stops here at once (StoreBusyError).
-    with exclusive_lock(out), OutputBatch(overwrite=overwrite) as batch:
+    with (
+        CommandTimer(args.command, quiet=quiet) as timer,
+        exclusive_lock(out),
+        OutputBatch(overwrite=overwrite) as batch,
+    ):
         try:
             ds = run_sweep(
                 spec,
@@ -204,12 +207,11 @@ def cmd_sweep(args: argparse.Namespace) -> int:
             # compiles), which then failed the compile: the same Ctrl-C, the same message.
             _interrupted(interrupt_for(RUN.signal), work_store)
         remove_store(work_store)
-    elapsed = time.perf_counter() - started
     v = ds["mean_velocity"].values
     finite = v[np.isfinite(v)]
     if not quiet:
         print(
-            f"{spec.n_chunks} chunks, {v.size} points in {elapsed:.2f} s; "
+            f"{spec.n_chunks} chunks, {v.size} points {timer.took()}; "
             f"max v = {finite.max() if finite.size else float('nan'):.6e} m/s; wrote {out}"
         )
         if np.isinf(v).any():
