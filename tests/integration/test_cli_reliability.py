@@ -193,6 +193,17 @@ def test_unwritable_stderr_still_gives_status_2(monkeypatch):
     assert main(["--", "info", "--json"]) == 0
 
 
+def test_a_map_runs_with_stderr_closed(tmp_path, monkeypatch):
+    """`microslip map ... 2>&-`: Python's sys.stderr is None, and asking it whether it is
+    a terminal (for the progress bar) failed the run as an internal error."""
+    monkeypatch.setattr("sys.stderr", None)
+    from microslip.cli.main import main
+
+    out = tmp_path / "map.nc"
+    assert main([*MAP[:-1], "--out", str(out)]) == 0  # not --quiet: the bar is asked for
+    assert out.exists()
+
+
 @pytest.mark.parametrize(("sig", "code"), [(signal.SIGINT, 130), (signal.SIGTERM, 143)])
 def test_an_interrupt_swallowed_by_native_code_is_still_reported_as_one(
     capsys, monkeypatch, sig, code

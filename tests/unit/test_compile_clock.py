@@ -86,3 +86,13 @@ def test_quiet_command_timer_still_counts_but_says_nothing(capsys):
         outer(1.0)
     assert timer.compiling > 0.0
     assert capsys.readouterr().err == ""
+
+
+def test_the_note_is_dropped_when_stderr_is_closed(capsys, monkeypatch):
+    """`2>&-`: sys.stderr is None, and tqdm.write would then print to stdout."""
+    _, outer = _fresh_pair()
+    monkeypatch.setattr("sys.stderr", None)
+    with CommandTimer("map") as timer:
+        outer(1.0)
+    assert timer.compiling > 0.0
+    assert capsys.readouterr().out == ""

@@ -180,7 +180,7 @@ def cmd_sweep(args: argparse.Namespace) -> int:
                 store=work_store,
                 scheduler=opts.get("scheduler"),
                 workers=workers,
-                progress=not quiet and sys.stderr.isatty(),
+                progress=not quiet and sys.stderr is not None and sys.stderr.isatty(),
             )
             batch.write(out, lambda tmp: write_dataset(ds, tmp, overwrite=False))
             if plot is not None:

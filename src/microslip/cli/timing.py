@@ -70,8 +70,13 @@ class CommandTimer:
 
         from microslip._jit_cache import cache_dir
 
-        tqdm.write(
-            f"microslip {self.command}: note: compiling kernels for these sources (once, "
-            f"tens of seconds; later runs load them from {cache_dir()})",
-            file=sys.stderr,
-        )
+        if sys.stderr is None:  # closed (`2>&-`): tqdm would write to stdout instead
+            return
+        try:
+            tqdm.write(
+                f"microslip {self.command}: note: compiling kernels for these sources "
+                f"(once, tens of seconds; later runs load them from {cache_dir()})",
+                file=sys.stderr,
+            )
+        except (OSError, ValueError):  # stderr closed or full: the compile goes on
+            pass
