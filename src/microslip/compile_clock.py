@@ -20,7 +20,6 @@ from __future__ import annotations
 import threading
 import time
 from collections.abc import Callable
-from types import TracebackType
 
 from numba.core import event
 
@@ -66,12 +65,7 @@ class CompileClock:
         event.register(_COMPILE, self._listener)
         return self
 
-    def __exit__(
-        self,
-        kind: type[BaseException] | None,
-        error: BaseException | None,
-        trace: TracebackType | None,
-    ) -> None:
+    def __exit__(self, *exc: object) -> None:
         event.unregister(_COMPILE, self._listener)
 
     def _started(self) -> None:

@@ -11,7 +11,6 @@ from __future__ import annotations
 
 import sys
 import time
-from types import TracebackType
 
 __all__ = ["CommandTimer"]
 
@@ -46,15 +45,10 @@ class CommandTimer:
         self._started = time.perf_counter()
         return self
 
-    def __exit__(
-        self,
-        kind: type[BaseException] | None,
-        error: BaseException | None,
-        trace: TracebackType | None,
-    ) -> None:
+    def __exit__(self, *exc: object) -> None:
         self.elapsed = time.perf_counter() - self._started
         assert self._clock is not None
-        self._clock.__exit__(kind, error, trace)
+        self._clock.__exit__(*exc)
         self.compiling = min(self._clock.seconds, self.elapsed)
 
     def took(self, digits: int = 2) -> str:
