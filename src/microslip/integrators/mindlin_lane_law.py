@@ -133,16 +133,44 @@ def _quartic(piece, start, tau):
 
 
 @njit(cache=True, inline="always")
+def _stick_series(piece, degree, tau):
+    """(v_1, v_2, e_1, e_2, x_1, x_2) at τ: the values of the six series of the stick
+    solution stored in ``piece`` (Φ's entries and ∫ẋ's), by :func:`_series`'s arithmetic
+    for a value (the same bits), in one loop. :func:`stick_state` and
+    :func:`virtual_start` need all six; each site of an inlined function is compiled
+    again (docs/design.md, "Compile time"), and six sites of :func:`_series` each were
+    most of their compile."""
+    u = tau * tau
+    m = degree // 2
+    top = 2 * m
+    odd = degree % 2 == 1
+    ev1, ev2, ee1 = piece[M_V1 + top], piece[M_V2 + top], piece[M_E1 + top]
+    ee2, ex1, ex2 = piece[M_E2 + top], piece[M_X1 + top], piece[M_X2 + top]
+    ov1 = piece[M_V1 + top + 1] if odd else 0.0
+    ov2 = piece[M_V2 + top + 1] if odd else 0.0
+    oe1 = piece[M_E1 + top + 1] if odd else 0.0
+    oe2 = piece[M_E2 + top + 1] if odd else 0.0
+    ox1 = piece[M_X1 + top + 1] if odd else 0.0
+    ox2 = piece[M_X2 + top + 1] if odd else 0.0
+    for j in range(m - 1, -1, -1):
+        k = 2 * j
+        ev1, ov1 = ev1 * u + piece[M_V1 + k], ov1 * u + piece[M_V1 + k + 1]
+        ev2, ov2 = ev2 * u + piece[M_V2 + k], ov2 * u + piece[M_V2 + k + 1]
+        ee1, oe1 = ee1 * u + piece[M_E1 + k], oe1 * u + piece[M_E1 + k + 1]
+        ee2, oe2 = ee2 * u + piece[M_E2 + k], oe2 * u + piece[M_E2 + k + 1]
+        ex1, ox1 = ex1 * u + piece[M_X1 + k], ox1 * u + piece[M_X1 + k + 1]
+        ex2, ox2 = ex2 * u + piece[M_X2 + k], ox2 * u + piece[M_X2 + k + 1]
+    return (
+        ev1 + tau * ov1, ev2 + tau * ov2, ee1 + tau * oe1, ee2 + tau * oe2,
+        ex1 + tau * ox1, ex2 + tau * ox2,
+    )  # fmt: skip
+
+
+@njit(cache=True, inline="always")
 def stick_state(piece, x0, v0, e0, tau):
     """(x [m], ẋ [m/s], e [N]) at τ of a lane stuck with virtual initial state
     (x0, ẋ0, e0) at τ = 0 (:func:`virtual_start`)."""
-    degree = int(piece[M_DEG])
-    v_1 = _series(piece, M_V1, degree, tau)[0]
-    v_2 = _series(piece, M_V2, degree, tau)[0]
-    e_1 = _series(piece, M_E1, degree, tau)[0]
-    e_2 = _series(piece, M_E2, degree, tau)[0]
-    x_1 = _series(piece, M_X1, degree, tau)[0]
-    x_2 = _series(piece, M_X2, degree, tau)[0]
+    v_1, v_2, e_1, e_2, x_1, x_2 = _stick_series(piece, int(piece[M_DEG]), tau)
     return x0 + x_1 * v0 + x_2 * e0, v_1 * v0 + v_2 * e0, e_1 * v0 + e_2 * e0
 
 
@@ -151,16 +179,10 @@ def virtual_start(piece, tau_a, x_a, v_a, e_a):
     """(x0, ẋ0, e0) at τ = 0 of the stick through (x_a, ẋ_a, e_a) at τ_a: Φ(τ_a)⁻¹."""
     if tau_a == 0.0:
         return x_a, v_a, e_a
-    degree = int(piece[M_DEG])
-    v_1 = _series(piece, M_V1, degree, tau_a)[0]
-    v_2 = _series(piece, M_V2, degree, tau_a)[0]
-    e_1 = _series(piece, M_E1, degree, tau_a)[0]
-    e_2 = _series(piece, M_E2, degree, tau_a)[0]
+    v_1, v_2, e_1, e_2, x_1, x_2 = _stick_series(piece, int(piece[M_DEG]), tau_a)
     det = v_1 * e_2 - v_2 * e_1
     v0 = (e_2 * v_a - v_2 * e_a) / det
     e0 = (v_1 * e_a - e_1 * v_a) / det
-    x_1 = _series(piece, M_X1, degree, tau_a)[0]
-    x_2 = _series(piece, M_X2, degree, tau_a)[0]
     return x_a - (x_1 * v0 + x_2 * e0), v0, e0
 
 
