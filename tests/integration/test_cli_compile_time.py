@@ -8,8 +8,7 @@ import re
 MAP = ("map", "--force", "0.1:0.9:4", "--amplitude", "1e-7,2e-7")
 NOTE = "microslip map: note: compiling kernels for these sources"
 SUMMARY = re.compile(
-    r"^1 chunks, 8 points in (\d+\.\d+) s( \+ (\d+\.\d) s compiling kernels "
-    r"\(first run of these sources\))?; max v"
+    r"^1 chunks, 8 points in (\d+\.\d+) s( \+ (\d+\.\d) s compiling kernels)?; max v"
 )
 
 

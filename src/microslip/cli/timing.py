@@ -52,20 +52,20 @@ class CommandTimer:
         self.compiling = min(self._clock.seconds, self.elapsed)
 
     def took(self, digits: int = 2) -> str:
-        """ "in 0.004 s", with "+ 37.1 s compiling kernels (...)" after it where the block
-        compiled; the run time is the elapsed time less the compile."""
+        """The run time, the elapsed time less the compile ("in 0.004 s"), followed by
+        the compile's where the block compiled ("+ 37.1 s compiling kernels")."""
         text = f"in {self.elapsed - self.compiling:.{digits}f} s"
         if self.compiling >= SHOWN_COMPILE_S:
-            text += f" + {self.compiling:.1f} s compiling kernels (first run of these sources)"
+            text += f" + {self.compiling:.1f} s compiling kernels"
         return text
 
     def _say_compiling(self) -> None:
+        if sys.stderr is None:  # closed (`2>&-`): tqdm would write to stdout instead
+            return
         from tqdm import tqdm  # clears and redraws a sweep's bar around the line
 
         from microslip._jit_cache import cache_dir
 
-        if sys.stderr is None:  # closed (`2>&-`): tqdm would write to stdout instead
-            return
         try:
             tqdm.write(
                 f"microslip {self.command}: note: compiling kernels for these sources "
