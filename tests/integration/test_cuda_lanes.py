@@ -197,12 +197,13 @@ SIMULATED = textwrap.dedent(
     with pytest.raises(ValueError, match="too coarse for the Mindlin"):
         run_mindlin_lanes_cuda(*coarse)
 
-    # Hertz set-ups (m2 = 1.5): those that leave contact are handed back, as on the CPU,
-    # with the other set-ups' results, on a stepped and on a repeated tape.
+    # Hertz set-ups (m2 = 1.5): those that leave contact are handed back, as on the CPU
+    # without windows, with the other set-ups' results, on a stepped and on a repeated
+    # tape.
     from test_cuda_lanes import handed_back, hertz_lanes
     args, periods, back = hertz_lanes(240)
     for options in (dict(), dict(periods=periods)):
-        cpu_back, cpu = handed_back(run_mindlin_lanes, *args, **options)
+        cpu_back, cpu = handed_back(run_mindlin_lanes, *args, windowed=False, **options)
         gpu_back, gpu = handed_back(run_mindlin_lanes_cuda, *args, tape_rows=24, **options)
         assert np.array_equal(cpu_back, back) and np.array_equal(gpu_back, back), gpu_back
         kept = ~np.isin(args[3], back)
@@ -212,8 +213,9 @@ SIMULATED = textwrap.dedent(
     print("hertz hand-back same bits")
 
     # A touchdown tie (λ = 1, F = μ m g from rest in flight: tests/unit/
-    # test_sweep_compliant_time.py): the lane that stalls is handed back alone on both,
-    # NaN, and the other lane of its set-up keeps the CPU's bits.
+    # test_sweep_compliant_time.py): the lane that stalls is handed back alone on both
+    # (the CPU without windows), NaN, and the other lane of its set-up keeps the CPU's
+    # bits.
     import microslip as ms
     from microslip.integrators.normal_tape import normal_coefficients
     from microslip.simulation import initial_state_from_amplitude
@@ -228,9 +230,10 @@ SIMULATED = textwrap.dedent(
         [1.0], [0, 0], [0.5 * params.mu * mg, params.mu * mg], params.mu, params.mu,
         200 * dt, dt,
     )
+    from functools import partial as bound
     from microslip.integrators.shared_lanes import LaneStalledError
     partial = []
-    for run in (run_mindlin_lanes, run_mindlin_lanes_cuda):
+    for run in (bound(run_mindlin_lanes, windowed=False), run_mindlin_lanes_cuda):
         with pytest.raises(LaneStalledError) as stalled:
             run(*args)
         assert list(stalled.value.setups) == [] and list(stalled.value.lanes) == [1], run
@@ -365,7 +368,7 @@ def test_gpu_hands_back_the_hertz_setups_that_leave_contact(periodic):
 
     args, periods, back = hertz_lanes(4000)
     options = dict(periods=periods) if periodic else {}
-    cpu_back, cpu = handed_back(run_mindlin_lanes, *args, **options)
+    cpu_back, cpu = handed_back(run_mindlin_lanes, *args, windowed=False, **options)
     gpu_back, gpu = handed_back(run_mindlin_lanes_cuda, *args, tape_rows=512, **options)
     assert np.array_equal(cpu_back, back) and np.array_equal(gpu_back, back)
     kept = ~np.isin(args[3], back)

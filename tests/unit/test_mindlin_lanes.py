@@ -167,12 +167,14 @@ def test_a_release_between_two_sticking_piece_ends_is_found():
 
 
 @pytest.mark.parametrize("m2", [1.5, 2.5])
-def test_an_exponent_rough_at_touchdown_runs_in_contact_and_hands_back_a_flight(m2):
+def test_an_exponent_rough_at_touchdown_hands_back_a_flight_only_without_windows(m2):
     """k_t ∝ δ^(m2-1) with 1 < m2 < 3, m2 != 2 is rough where δ = 0, and a lane that
-    lands would stall: a set-up that leaves contact is handed back (LaneStalledError
-    naming it; the sweep runs it on the batched kernel), one that stays in contact runs.
-    At rest in the static deflection (N = m g, k_t = λ K_n with K_n = m2 m g/y0) a lane
-    under F <= μ m g/2 sticks: x = F/k_t (1 - cos ωt)."""
+    lands on its closed form would stall: without windows (``windowed=False``, what the
+    GPU lanes do) a set-up that leaves contact is handed back (LaneStalledError naming
+    it), with them it runs through its flights (tests/validation/
+    test_mindlin_rough_flights_vs_event.py checks its values). One that stays in contact
+    runs either way: at rest in the static deflection (N = m g, k_t = λ K_n with
+    K_n = m2 m g/y0) a lane under F <= μ m g/2 sticks: x = F/k_t (1 - cos ωt)."""
     from microslip.integrators.shared_lanes import LaneStalledError
 
     params = ms.Parameters(m2=m2)
@@ -184,13 +186,17 @@ def test_an_exponent_rough_at_touchdown_runs_in_contact_and_hands_back_a_flight(
     at_rest = [y0, 0.0]
     flight = list(initial_state_from_amplitude(params, 1.4 * y0)[:2])
     force, duration = 0.3, 1e-3
+    args = (np.array([c, c]), np.array([at_rest, flight]), [RATIO, RATIO], [0, 1],
+            [force, force], 0.1, 0.1, duration, dt)  # fmt: skip
     with pytest.raises(LaneStalledError, match="left contact") as info:
-        run_mindlin_lanes(np.array([c, c]), np.array([at_rest, flight]), [RATIO, RATIO],
-                          [0, 1], [force, force], 0.1, 0.1, duration, dt)  # fmt: skip
+        run_mindlin_lanes(*args, windowed=False)
     assert list(info.value.setups) == [1]
-    x = run_mindlin_lanes(c[None], np.array([at_rest]), [RATIO], [0], [force], 0.1, 0.1,
-                          duration, dt)[0]  # fmt: skip
-    assert x[0] == pytest.approx(force / k_t * (1.0 - math.cos(omega * duration)), rel=1e-9)
+    x, _v, _f, _mode, switches, _flagged = run_mindlin_lanes(*args)
+    assert np.all(np.isfinite(x)) and switches[1] >= 1 and switches[0] == 0  # its landing
+    alone = run_mindlin_lanes(c[None], np.array([at_rest]), [RATIO], [0], [force], 0.1, 0.1,
+                              duration, dt)[0]  # fmt: skip
+    expected = force / k_t * (1.0 - math.cos(omega * duration))
+    assert alone[0] == pytest.approx(expected, rel=1e-9) and x[0] == alone[0]
 
 
 def _repeated_set_up(amplitude, duration, dt=DT):
@@ -213,6 +219,7 @@ def test_pieces_written_once_per_cycle_row_give_the_bits_of_writing_them_as_serv
     free vibration does not depend on the period it is in. With and without flights
     (A = 2.5 y0 leaves contact); a wrong row (the tail's, say) changes the bits."""
     from microslip.integrators import mindlin_lanes as ml
+    from microslip.integrators import mindlin_windows as mw
     from microslip.integrators import periodic_tape
 
     duration = 4.6 * P.natural_period
@@ -226,7 +233,7 @@ def test_pieces_written_once_per_cycle_row_give_the_bits_of_writing_them_as_serv
 
     cached, switches, flagged = lanes()
     status = ml._run_group(C, y0, ydot0, RATIO, cycle, shape, duration, DT, cached, switches,
-                           flagged, threads.stop_flag(), 0)  # fmt: skip
+                           flagged, threads.stop_flag(), 0, True)  # fmt: skip
     assert status == 0 and switches.sum() > 10
     served, served_switches, served_flagged = lanes()
     flying = ml.start_lanes(C, y0, ydot0, served, forces.size)
@@ -236,8 +243,10 @@ def test_pieces_written_once_per_cycle_row_give_the_bits_of_writing_them_as_serv
     tape_status = 1
     while tape_status == 1:
         rows, tape_status = periodic_tape.repeat_rows(carry, tape, cycle, shape)
+        window = mw.window_buffers(C, RATIO)
         status, flying = ml._run_rows(served, tape, 0, rows, piece, False, -1, C, flying,
-                                      served_switches, served_flagged)  # fmt: skip
+                                      served_switches, served_flagged, window, rows,
+                                      tape_status == 0, DT, True)  # fmt: skip
         assert status == 0
     assert np.array_equal(cached, served)
     assert np.array_equal(switches, served_switches) and np.array_equal(flagged, served_flagged)

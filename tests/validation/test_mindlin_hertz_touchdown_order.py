@@ -53,8 +53,9 @@ def test_rk4_through_hertz_touchdowns_with_a_sticking_mindlin_point(name):
 
 def test_time_sweep_through_hertz_touchdowns_matches_the_event_method():
     """In contact throughout (A < y0) the set-ups run on the Mindlin lanes, whose stiffness
-    quartics are smooth there; with a flight (A >= y0) the lanes hand them back and each
-    point is the batched kernel's, the same steps as simulate(method="rk4")."""
+    quartics are smooth there; with a flight (A >= y0) the lanes cross each lift-off and
+    touchdown on the scalar RK4 step (integrators/mindlin_windows.py), and come as close
+    to the event method as simulate(method="rk4") does at the same step."""
     model = ms.Model(HERTZ, tangential=ms.MindlinSpring(0.8235))
     forces = np.array([0.2, 0.5, 0.9])
     amplitudes = [0.5 * Y0, 0.95 * Y0, 1.3 * Y0, 2.0 * Y0]
@@ -63,6 +64,7 @@ def test_time_sweep_through_hertz_touchdowns_matches_the_event_method():
                       duration=duration)  # fmt: skip
     values = np.asarray(result.values)
     errors, reference = np.zeros(values.shape), np.zeros(values.shape)
+    rk4_errors = np.zeros(values.shape)
     for j, amplitude in enumerate(amplitudes):
         for i, force in enumerate(forces):
             event = ms.simulate(model, force=float(force), amplitude=amplitude,
@@ -72,8 +74,9 @@ def test_time_sweep_through_hertz_touchdowns_matches_the_event_method():
             if amplitude >= Y0:
                 rk4 = ms.simulate(model, force=float(force), amplitude=amplitude,
                                   duration=duration, method="rk4")  # fmt: skip
-                assert rk4.x[-1] / duration == values[i, j]
+                rk4_errors[i, j] = abs(rk4.x[-1] / duration - reference[i, j])
     scale = np.max(np.abs(reference))
-    # measured: on the lanes 1.3e-8 and 6.7e-8; with flights 1.9e-6 (2.4e-4 with full steps)
+    # measured: in contact 1.3e-8 and 6.7e-8; with flights 2.0e-7, where rk4 is 1.9e-6
+    # off (2.4e-4 with full steps)
     assert np.max(errors[:, :2]) <= 1e-6 * scale, np.max(errors[:, :2]) / scale
-    assert np.max(errors) <= 3e-6 * scale, np.max(errors) / scale
+    assert np.max(errors) <= max(np.max(rk4_errors), 1e-6 * scale), np.max(errors) / scale

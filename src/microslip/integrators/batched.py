@@ -100,7 +100,7 @@ LANE_STALLED = 1
 
 
 @njit(cache=True)
-def _scalar_step(s, mode, t, target, dt, graded_from, c, s1, have_s1, piece, trial, extremum,
+def scalar_step(s, mode, t, target, dt, graded_from, c, s1, have_s1, piece, trial, extremum,
                  work, atol):  # fmt: skip
     """integrate_chunk's RK4 loop body from (t, s) up to the grid point ``target``.
 
@@ -170,7 +170,7 @@ def _run_blocks(b_lo, b_hi, coeffs, states, directions, times, switches, flagged
         n_switch = np.zeros(block, dtype=np.int64)
         n_flag = np.zeros(block, dtype=np.int64)
         lane_status = np.zeros(block, dtype=np.int64)
-        graded_from = np.full(block, math.nan)  # per lane, see _scalar_step
+        graded_from = np.full(block, math.nan)  # per lane, see scalar_step
         t_prev = 0.0
         for k in range(grid.shape[0]):
             if stop[0] != 0:
@@ -199,14 +199,14 @@ def _run_blocks(b_lo, b_hi, coeffs, states, directions, times, switches, flagged
                     if reuse and not may_switch(
                         t_lane, h, mode, c, state_tuple(s), state_tuple(s1)
                     ):
-                        # A flag the core screening clears: _scalar_step would take s1 as
+                        # A flag the core screening clears: scalar_step would take s1 as
                         # it is. Decided here, without a compiled call that takes arrays.
                         for j in range(N_STATE):
                             buf[pp._S + j, i] = s1[j]
                         continue
                     # (A graded lane is a Mindlin one, of another model than the paper's:
                     # always flagged, so every step of its grading comes here.)
-                    d, t_lane, nsw, stalled, graded = _scalar_step(
+                    d, t_lane, nsw, stalled, graded = scalar_step(
                         s, mode, t_lane, target, dt, graded_from[i], c, s1, reuse, piece,
                         trial, extremum, work, atol,
                     )  # fmt: skip

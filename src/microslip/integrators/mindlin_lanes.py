@@ -15,17 +15,23 @@ a 2x2 matrix product and a sliding one the rigid law.
 A lane's arithmetic depends only on its own parameters and its set-up's tape (no
 fastmath): the same bits whatever the other lanes, their order or the threads.
 
-Contact exponents: any m2. For m2 = 1, 2 and >= 3 (:func:`supports_exponent`) every
-set-up runs here. Otherwise k_t ∝ δ^(m2-1) is not smooth where δ = 0 (a Hertz contact,
-m2 = 1.5): on the piece after a touchdown (and before a lift-off) its quartic misses
-the infinite slope (1 < m2 < 2) or curvature (2 < m2 < 3) there, the stick's loading
-and the slip's stop function disagree at a grazing touchdown, and a lane that lands
-chatters between them until it stalls (measured: every lane with a flight at m2 = 1.2,
-1.5, 1.9, 1.99, 2.2, 2.5). So a set-up of such an m2 runs here while it stays in
-contact (k_t is smooth where δ > 0: within 2e-7 of the event method's largest velocity
-at m2 = 1.5 up to A = 0.999 y0), and its first row in flight hands it back
-(``LEFT_ROUGH_CONTACT``, :class:`~microslip.integrators.shared_lanes.LaneStalledError`):
-the time sweep runs it on the batched RK4 kernel (:mod:`microslip.sweeps.compute`).
+Contact exponents: any m2. For m2 = 1, 2 and >= 3 (:func:`supports_exponent`) the
+closed form runs every set-up through its flights. Otherwise k_t ∝ δ^(m2-1) is not
+smooth where δ = 0 (a Hertz contact, m2 = 1.5): on the piece after a touchdown (and
+before a lift-off) its quartic misses the infinite slope (1 < m2 < 2) or curvature
+(2 < m2 < 3) there, the stick's loading and the slip's stop function disagree at a
+grazing touchdown, and a lane that lands chatters between them until it stalls
+(measured: every lane with a flight at m2 = 1.2, 1.5, 1.9, 1.99, 2.2, 2.5). So the
+lanes of such a set-up cross each lift-off and touchdown on the scalar RK4 step, by
+windows of the tape (:mod:`~microslip.integrators.mindlin_windows`); in contact k_t is
+smooth (within 2e-7 of the event method's largest velocity at m2 = 1.5 up to
+A = 0.999 y0). A set-up whose window does not fit the rows in sight, and with
+``windowed=False`` (the GPU lanes' way) every such set-up at its first row in flight,
+is handed back (``LEFT_ROUGH_CONTACT``,
+:class:`~microslip.integrators.shared_lanes.LaneStalledError`): the time sweep runs it on
+the batched RK4 kernel (:mod:`microslip.sweeps.compute`). A lane whose closed form
+stalls on a piece (an exact tie of stick and slip) takes that piece on the scalar step
+too (:func:`~microslip.integrators.mindlin_windows.step_lane`).
 """
 
 from __future__ import annotations
@@ -37,9 +43,11 @@ from numba import njit
 
 from microslip import _jit_cache  # noqa: F401  (registers the cache before any @njit)
 from microslip.integrators import mindlin_lane_law as law
+from microslip.integrators import mindlin_windows as windows
 from microslip.integrators import normal_tape as nt
 from microslip.integrators import periodic_tape, threads
 from microslip.integrators.kernel import as_tuple
+from microslip.integrators.mindlin_piece import piece_table
 from microslip.integrators.shared_lanes import (
     FIRST_ROW,
     OK,
@@ -156,49 +164,67 @@ def _vector_pass(lanes, n, a, piece, h_int, h2_kint):
 
 @njit(cache=True)
 def _run_group(c, y0, ydot0, ratio, cycle, shape, t_end, dt, lanes, switches, flagged, stop,
-               item):  # fmt: skip
+               item, windowed):  # fmt: skip
     """One normal set-up and its lanes, in place; returns the status. On a repeated tape
     (``shape``: period rows, tail rows, repeats, T) each row's piece is written once
-    (:func:`_piece_table`) and read every period: a free vibration's pieces are the same
-    every period, and set_piece is most of a set-up's own cost. Returns STOPPED after a
-    period or a block of tape once ``stop[0]`` is set (:func:`threads.stop_flag`), and
-    reports its progress there as ``item`` (:func:`threads.report`)."""
+    (:func:`~microslip.integrators.mindlin_piece.piece_table`) and read every period: a
+    free vibration's pieces are the same every period, and set_piece is most of a
+    set-up's own cost. Returns STOPPED after a period or a block of tape once
+    ``stop[0]`` is set (:func:`threads.stop_flag`), and reports its progress there as
+    ``item`` (:func:`threads.report`). Where ``windowed``, a set-up of an m2 outside
+    :func:`supports_exponent` crosses its flights by windows
+    (:mod:`~microslip.integrators.mindlin_windows`); a stepped tape is then filled
+    PEEK_ROWS rows ahead of each block, where a window may end."""
     n = lanes.shape[1]
     flying = start_lanes(c, y0, ydot0, lanes, n)
     laws = as_tuple(c)  # the coefficients as the pieces' laws take them, once per set-up
+    window = windows.window_buffers(c, ratio)
     if shape[0] > 0:
-        period_rows, tail_rows, repeats, _period = shape
+        period_rows, tail_rows, repeats, period = shape
         total = period_rows + tail_rows
-        if not supports_exponent(laws[EXPONENT]) and has_flight(cycle, total):
-            return LEFT_ROUGH_CONTACT  # before its pieces are written (module doc)
+        step = period / math.ceil(period / dt)  # the cycle's grid (periodic_tape.cycle_rows)
         table = np.zeros((total, law.PIECE))
-        coarse = _piece_table(table, cycle, total, laws, ratio)
+        coarse = piece_table(table, cycle, total, laws, ratio)
+        # A period in contact throughout needs no window (nor a look-ahead past its end).
+        windowed = windowed and has_flight(cycle, total)
         for k in range(repeats):
             if stop[0] != 0:
                 return STOPPED
+            windows.reset_windows(window)  # each period's times are the first one's
             status, flying = _run_rows(
                 lanes, cycle, FIRST_ROW, period_rows, table, CACHED, coarse, laws, flying,
-                switches, flagged,
+                switches, flagged, window, period_rows, NOT_FINAL, step, windowed,
             )  # fmt: skip
             if status != OK:
                 return status
             threads.report(stop, item, (k + 1) / (repeats + 1))
+        windows.reset_windows(window)  # the tail's times start at 0 too
         return _run_rows(
             lanes, cycle, period_rows, total, table, CACHED, coarse, laws, flying, switches,
-            flagged,
+            flagged, window, total, FINAL, step, windowed,
         )[0]  # fmt: skip
     piece = np.zeros((1, law.PIECE))  # written row by row, as the tape is filled
     law.set_setup(piece[0], c[MASS], c[GRAVITY], ratio)
-    carry, tape, work = nt.tape_buffers(y0, ydot0)
+    carry, _, work = nt.tape_buffers(y0, ydot0)
+    # The rows of a block and up to PEEK_ROWS after it, where a window may end.
+    sight = np.empty((nt.TAPE_ROWS + windows.PEEK_ROWS, nt.ROW))
+    tape = sight[: nt.TAPE_ROWS]
     while True:
         if stop[0] != 0:
             return STOPPED
         rows, tape_status = nt.fill_tape(carry, c, t_end, dt, tape, work)
         if tape_status > 1:
             return tape_status
+        in_sight, final = rows, tape_status == 0
+        if windowed and not final and not supports_exponent(laws[EXPONENT]):
+            ahead = carry.copy()
+            peeked, peek_status = nt.fill_tape(
+                ahead, c, t_end, dt, sight[rows : rows + windows.PEEK_ROWS], work
+            )
+            in_sight, final = rows + peeked, peek_status == 0
         status, flying = _run_rows(
-            lanes, tape, FIRST_ROW, rows, piece, NOT_CACHED, NO_COARSE_ROW, laws, flying,
-            switches, flagged,
+            lanes, sight, FIRST_ROW, rows, piece, NOT_CACHED, NO_COARSE_ROW, laws, flying,
+            switches, flagged, window, in_sight, final, dt, windowed,
         )  # fmt: skip
         if status != OK:
             return status
@@ -207,46 +233,59 @@ def _run_group(c, y0, ydot0, ratio, cycle, shape, t_end, dt, lanes, switches, fl
             return OK
 
 
-@njit(cache=True)
-def _piece_table(table, rows, n_rows, laws, ratio):
-    """Write the piece of each contact row r < ``n_rows`` of ``rows`` into table[r]
-    (its set-up's slots and law.set_piece's; ``laws`` the coefficient tuple); returns the
-    first row too coarse for the tangential oscillation (θ > MAX_THETA), or ``n_rows``."""
-    coarse = n_rows
-    for r in range(n_rows):
-        law.set_setup(table[r], laws[MASS], laws[GRAVITY], ratio)
-        a = nt.coefficients(rows, r)
-        if flight_piece(a):
-            continue
-        if law.set_piece(table[r], a, rows, r, laws) != 0 and coarse == n_rows:
-            coarse = r
-    return coarse
-
-
 # The flags and codes of _run_rows as NumPy scalars, not literals, which would compile it
 # once per value (docs/design.md).
 CACHED = np.bool_(True)
 NOT_CACHED = np.bool_(False)
+FINAL = np.bool_(True)
+NOT_FINAL = np.bool_(False)
 NO_COARSE_ROW = np.int64(-1)
 
 
 @njit(cache=True)
-def _run_rows(lanes, rows, lo, hi, pieces, cached, coarse, laws, flying, switches, flagged):
+def _run_rows(lanes, rows, lo, hi, pieces, cached, coarse, laws, flying, switches, flagged,
+              window, in_sight, final, dt, windowed):  # fmt: skip
     """The lanes over tape rows [lo, hi) of ``rows``, in place: a row in flight moves
     them all (:func:`~microslip.integrators.spring_lanes.fly`), a contact row takes the
     vector pass and the law for the lanes it flags. A contact row's piece is
     pieces[r] where ``cached`` (``coarse``: the first row too coarse), else written into
-    pieces[0] here from ``laws``, the coefficient tuple. Returns (status, whether the
-    lanes are in flight); a row in flight at an m2 outside :func:`supports_exponent`
-    returns LEFT_ROUGH_CONTACT."""
+    pieces[0] here from ``laws``, the coefficient tuple. At an m2 outside
+    :func:`supports_exponent` the lanes cross each lift-off and touchdown by a window
+    (:func:`~microslip.integrators.mindlin_windows.cross`: ``window`` its buffers, rows
+    [0, ``in_sight``) in sight, ``final`` where they end the run, ``dt`` [s] the rows'
+    grid step), where ``windowed``; at each grid point in contact it looks a few rows
+    ahead for a lift-off to start one at. Returns (status, whether the lanes are in
+    flight); LEFT_ROUGH_CONTACT where a window does not fit the rows in sight."""
     n = lanes.shape[1]
     rough = not supports_exponent(laws[EXPONENT])
     for r in range(lo, hi):
         h = rows[r, nt.H]
         a = nt.coefficients(rows, r)
-        if flight_piece(a):
-            if rough:
+        in_flight = flight_piece(a)
+        if rough and not windowed:
+            if in_flight:
                 return LEFT_ROUGH_CONTACT, flying
+        elif rough:
+            t0 = rows[r, nt.T0]
+            if windows.integrated_ahead(window, t0):
+                continue
+            r_switch = -1
+            if in_flight != flying:
+                if in_flight:  # a lift-off not seen coming (rows out of sight)
+                    return LEFT_ROUGH_CONTACT, flying
+                r_switch = r  # a touchdown
+            elif not in_flight and windows.on_grid(t0, dt):
+                r_switch = windows.lift_off_ahead(rows, r, in_sight, dt)
+                if r_switch == -2 and not final:
+                    return LEFT_ROUGH_CONTACT, flying
+            if r_switch >= 0:
+                done, flying = windows.cross(
+                    window, lanes, switches, flagged, rows, r, r_switch, in_sight, final, dt
+                )
+                if not done:
+                    return LEFT_ROUGH_CONTACT, flying
+                continue
+        if in_flight:
             fly(lanes, n, h, flying)
             flying = True
             continue
@@ -276,6 +315,10 @@ def _run_rows(lanes, rows, lo, hi, pieces, cached, coarse, laws, flying, switche
                     lanes[FS, i], lanes[MODE, i],
                 )  # fmt: skip
                 if k < 0:
+                    if windowed and windows.step_lane(
+                        window, lanes, switches, flagged, i, rows, r, dt
+                    ):
+                        continue  # the row on the scalar step instead
                     # Handed back alone (run_mindlin_lanes): NaN from here on, which the
                     # vector pass carries without a flag; the other lanes go on.
                     lanes[X, i], lanes[V, i], lanes[FS, i] = math.nan, math.nan, math.nan
@@ -287,7 +330,7 @@ def _run_rows(lanes, rows, lo, hi, pieces, cached, coarse, laws, flying, switche
 
 @njit(cache=True, nogil=True)
 def _run_groups(g_lo, g_hi, normal_c, y0, ydot0, ratio, cycles, offsets, shapes, starts, lanes,
-                switches, flagged, status, t_end, dt, stop):  # fmt: skip
+                switches, flagged, status, t_end, dt, windowed, stop):  # fmt: skip
     """Set-ups [g_lo, g_hi) and their lanes, in place (a range of :func:`threads.run_ranges`,
     ``stop`` its flag, where a set-up handed back is marked: :func:`threads.hand_back`)."""
     for g in range(g_lo, g_hi):
@@ -296,7 +339,7 @@ def _run_groups(g_lo, g_hi, normal_c, y0, ydot0, ratio, cycles, offsets, shapes,
         cycle, shape = periodic_tape.group_cycle(cycles, offsets, shapes, g)
         status[g] = _run_group(
             normal_c[g].copy(), y0[g], ydot0[g], ratio[g], cycle, shape, t_end, dt,
-            group_lanes, group_switches, group_flagged, stop, g,
+            group_lanes, group_switches, group_flagged, stop, g, windowed,
         )  # fmt: skip
         if status[g] == LEFT_ROUGH_CONTACT:  # handed back whole (a stalled lane goes alone)
             threads.hand_back(stop, g)  # its progress is the batched run's (caller)
@@ -304,7 +347,8 @@ def _run_groups(g_lo, g_hi, normal_c, y0, ydot0, ratio, cycles, offsets, shapes,
 
 
 def run_mindlin_lanes(normal_coeffs, normal_states0, ratio, group_of_lane, forces, mu_static,
-                      mu_kinetic, t_end, dt, periods=None, on_done=None):  # fmt: skip
+                      mu_kinetic, t_end, dt, periods=None, on_done=None,
+                      windowed=True):  # fmt: skip
     """Final states of many compliant lanes of Mindlin stiffness on shared normal
     motions, each from rest with a relaxed spring (SI).
 
@@ -330,6 +374,10 @@ def run_mindlin_lanes(normal_coeffs, normal_states0, ratio, group_of_lane, force
     alone (a lane stalled: more than MAX_SWITCHES_PER_STEP switches in a piece, at an
     exact stick/slip tie; its x, ẋ and f are NaN, the other lanes of its set-up run to
     the end), with these results, complete for the rest, as its ``partial``.
+    ``windowed`` (default): a set-up of such an exponent crosses its flights, and a lane
+    that stalls its piece, on the scalar RK4 step
+    (:mod:`~microslip.integrators.mindlin_windows`); False hands them back as described
+    (what the GPU lanes do).
     """
     copies, normal_coeffs, states0, ratio, periods, lane_args = copied_setups(
         normal_coeffs, normal_states0, ratio, periods, group_of_lane, forces, mu_static,
@@ -344,8 +392,8 @@ def run_mindlin_lanes(normal_coeffs, normal_states0, ratio, group_of_lane, force
     stop = threads.stop_flag(copies.n_copies)
     threads.run_ranges(
         _run_groups, copies.n_copies, normal_coeffs, states0[:, 0].copy(), states0[:, 1].copy(),
-        ratio, *cycles, starts, lanes, switches, flagged, status, float(t_end), float(dt), stop,
-        per_task=1, stop=stop, on_done=copies.done(on_done),
+        ratio, *cycles, starts, lanes, switches, flagged, status, float(t_end), float(dt),
+        np.bool_(windowed), stop, per_task=1, stop=stop, on_done=copies.done(on_done),
     )  # fmt: skip
     status = copies.status(status)
     raise_if_too_coarse(status == STEP_TOO_COARSE, dt)

@@ -29,6 +29,7 @@ from numba import njit
 from microslip import _jit_cache  # noqa: F401  (registers the cache before any @njit)
 from microslip.integrators import normal_tape as nt
 from microslip.integrators.spring_lane_law import derivative_bounds
+from microslip.model.coefficients import GRAVITY, MASS
 from microslip.model.contact import elastic_stiffness
 from microslip.model.normal import gap, normal_force_rate
 
@@ -197,3 +198,21 @@ def _fundamental_series(piece, h, mass, scale):
     piece[M_PSI1], piece[M_PSI2] = psi1, psi2
     piece[M_E1_2], piece[M_E2_2], piece[M_E1_3], piece[M_E2_3] = e1_2, e2_2, e1_3, e2_3
     piece[M_E1_0], piece[M_E2_0] = e1_0, e2_0
+
+
+@njit(cache=True)
+def piece_table(table, rows, n_rows, laws, ratio):
+    """Write the piece of each contact row r < ``n_rows`` of ``rows`` into table[r]
+    (its set-up's slots, :func:`set_setup`, and :func:`set_piece`'s; ``laws`` the
+    coefficient tuple, ``ratio`` λ [-]); returns the first row too coarse for the
+    tangential oscillation (θ > MAX_THETA), or ``n_rows``. The Mindlin lanes on a
+    repeated tape write each cycle row's piece once and read it every period."""
+    coarse = n_rows
+    for r in range(n_rows):
+        set_setup(table[r], laws[MASS], laws[GRAVITY], ratio)
+        a = nt.coefficients(rows, r)
+        if nt.flight_piece(a):
+            continue
+        if set_piece(table[r], a, rows, r, laws) != 0 and coarse == n_rows:
+            coarse = r
+    return coarse

@@ -301,12 +301,14 @@ def _mindlin_run(models, rows, setups, groups, normal0, periods, forces, lane_fo
     What the lanes hand back runs on the batched RK4 kernel instead, one trajectory per
     lane (``simulate(method="rk4")`` bit for bit), the rest keeping the lanes' results
     (the CPU and GPU lanes hand them on as the error's ``partial``): each lane's result
-    still depends on nothing else in the run. The lanes hand back a set-up that leaves
-    contact at a contact exponent outside
+    still depends on nothing else in the run. The GPU lanes hand back a set-up that
+    leaves contact at a contact exponent outside
     :func:`~microslip.integrators.mindlin_lanes.supports_exponent`, whose stiffness
     k_t ∝ δ^(m2-1) is rough at touchdown (docs/theory/numerics.md, "Lanes on a Mindlin
     spring"), and a lane that stalls (an exact tie of stick and slip at a touchdown):
-    that lane alone (CPU and GPU lanes).
+    the CPU lanes take those on, crossing such flights and ties on the scalar step
+    (:mod:`~microslip.integrators.mindlin_windows`), and hand back only a set-up whose
+    window does not fit the rows in sight.
 
     ``on_done`` (set-ups) hears of the lanes' progress, a set-up handed back counting
     only for what it reached (:func:`~microslip.integrators.threads.hand_back`), then of
@@ -322,17 +324,26 @@ def _mindlin_run(models, rows, setups, groups, normal0, periods, forces, lane_fo
         from microslip.integrators.mindlin_lanes import run_mindlin_lanes
 
         run = partial(run_mindlin_lanes, on_done=told)
-    ratio = [models[r].tangential.ratio for r in setups]
+    ratio = np.array([models[r].tangential.ratio for r in setups])
+    setup_args = (coeffs[setups], normal0[setups], ratio)
     try:
-        return run(coeffs[setups], normal0[setups], ratio, groups, lane_forces, mu_s, mu_k,
-                   duration, dt, periods=periods[setups])[0]  # fmt: skip
+        return run(*setup_args, groups, lane_forces, mu_s, mu_k, duration, dt,
+                   periods=periods[setups])[0]  # fmt: skip
     except LaneStalledError as error:
         x = np.array(error.partial[0])  # the rest ran to the end
         back = np.isin(groups, error.setups)  # every lane of a set-up handed back
         back[error.lanes] = True  # and those handed back alone
+    back = np.flatnonzero(back)
+    if backend == "cuda":
+        # The GPU lanes hand back a rough set-up's flights and a lane that stalls: the CPU
+        # lanes take them on, by windows on the scalar step (a lane's bits are those of
+        # a CPU run: they depend on nothing else in it).
+        x[back], back = _cpu_mindlin_lanes(back, groups, setup_args, periods[setups],
+                                           lane_forces, mu_s, mu_k, duration, dt)  # fmt: skip
+    if back.size == 0:
+        return x
     # In one batched run: blocks full of lanes, spread over the threads (a lane's bits
     # do not depend on its block).
-    back = np.flatnonzero(back)
     row_of = rows[back // forces.size]
     states0 = np.zeros((back.size, 4))
     states0[:, :2] = normal0[row_of]
@@ -347,6 +358,23 @@ def _mindlin_run(models, rows, setups, groups, normal0, periods, forces, lane_fo
                            states0, on_done=share)  # fmt: skip
     x[back] = batch.states[:, 2]
     return x
+
+
+def _cpu_mindlin_lanes(lanes, groups, setup_args, periods, forces, mu_s, mu_k, duration, dt):
+    """(x(duration) [m] of ``lanes`` (indices of a Mindlin run's lanes, ``groups`` their
+    set-ups) on the CPU Mindlin lanes, the indices of those still handed back)."""
+    from microslip.integrators.mindlin_lanes import run_mindlin_lanes
+    from microslip.integrators.shared_lanes import LaneStalledError
+
+    used, local = np.unique(groups[lanes], return_inverse=True)
+    per_lane = [np.broadcast_to(a, groups.shape)[lanes] for a in (forces, mu_s, mu_k)]
+    try:
+        return run_mindlin_lanes(*(a[used] for a in setup_args), local, *per_lane, duration,
+                                 dt, periods=periods[used])[0], lanes[:0]  # fmt: skip
+    except LaneStalledError as error:
+        back = np.isin(local, error.setups)
+        back[error.lanes] = True
+        return np.array(error.partial[0]), lanes[back]
 
 
 class _Counted:

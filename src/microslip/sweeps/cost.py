@@ -95,6 +95,12 @@ LOCAL_BATCH = 16
 # Re-measured 2026-11-28 (forced, 1 force x 32 excitation amplitudes, 2 threads): 0.76 us
 # per set-up step per thread; ~2x.
 MINDLIN_S_PER_SETUP_STEP = 1.5e-6
+# A Mindlin set-up on a rough contact law (m2 = 1.5) that leaves contact: its lanes cross
+# each lift-off and touchdown on the scalar RK4 step (integrators/mindlin_windows.py),
+# counted as this share of a batched run of them. Measured 2026-11-28, 64 forces x 16
+# amplitudes (8 flying) over 0.05 s, 2 threads: 9.4 s against 48 s with the flying set-ups
+# handed back to the batched kernel, ~0.2; rounded up 2x.
+ROUGH_FLIGHT_SHARE = 0.4
 # Sweeps: the result array, the copy read back from the store, the Dataset written out.
 SWEEP_BYTES_PER_POINT = 32
 BATCH_BYTES_PER_LANE = 256  # coefficients, initial and final states, block scratch

@@ -66,11 +66,12 @@ def time_kernel(model: Model) -> str:
     "shared" (rigid contact), "spring" (TangentialSpring) or "mindlin" (MindlinSpring),
     each a shared-normal kernel (:mod:`microslip.integrators.shared_lanes`,
     :mod:`~microslip.integrators.spring_lanes`, :mod:`~microslip.integrators.mindlin_lanes`).
-    The Mindlin lanes hand a set-up back to the batched RK4 kernel
-    (:mod:`microslip.integrators.batched`, one trajectory per force) when one of its
-    lanes stalls, or when it leaves contact at a contact exponent m2 outside
+    The Mindlin lanes of a set-up that leaves contact at a contact exponent m2 outside
     :func:`~microslip.integrators.mindlin_lanes.supports_exponent` (a Hertz contact,
-    m2 = 1.5): :func:`rough_setups` counts those for the estimate."""
+    m2 = 1.5) cross each flight on the scalar RK4 step
+    (:mod:`~microslip.integrators.mindlin_windows`): :func:`rough_setups` counts those
+    for the estimate. What the lanes still hand back (a window out of sight) runs on the
+    batched RK4 kernel (:mod:`microslip.integrators.batched`, one trajectory per force)."""
     if not model.is_compliant:
         return "shared"
     if isinstance(model.tangential, TangentialSpring):
@@ -89,7 +90,8 @@ def rough_exponents(model: Model, param_axes=()) -> bool:
 
 def rough_setups(model: Model, param_axes, amplitudes) -> float:
     """The fraction [1] of a rough-exponent Mindlin sweep's set-ups (:func:`rough_exponents`)
-    that may leave contact, and so run on the batched kernel: those of a free vibration
+    that may leave contact, and so cross flights on the scalar step
+    (:mod:`~microslip.integrators.mindlin_windows`): those of a free vibration
     from rest at A >= y0 (below, the motion stays in contact: it starts at rest at
     y0 - A > 0 and no damping law adds energy); every set-up of a forced model, of a
     parameter axis or without known amplitudes. 0 for every other sweep."""
@@ -103,7 +105,7 @@ def rough_setups(model: Model, param_axes, amplitudes) -> float:
 
 def flying_setups(model: Model, param_axes, amplitudes, duration: float, dt) -> float:
     """The fraction [1] of a rough-exponent Mindlin sweep's set-ups that leave contact,
-    and so run on the batched kernel, found set by set where :func:`rough_setups` bounds
+    and so cross flights on the scalar step, found set by set where :func:`rough_setups` bounds
     it: of a free vibration those from rest at A >= y0 of their parameter set; of a
     forced one those whose normal motion from rest at y0 has a flight within
     ``duration`` [s], integrated at the sweep's step ``dt`` [s] (None: 1/200 of the
@@ -234,10 +236,10 @@ def estimate_work(
         return estimate
 
     def with_batched(handed_back: float) -> budget.Estimate:
-        """The estimate with the fraction ``handed_back`` of the set-ups also on the
-        batched kernel, a run per chunk of the set-ups it hands back (at least one; a
-        forced chunk is one set-up): one after the other in each chunk, the times add,
-        the memory is the larger."""
+        """The estimate with the fraction ``handed_back`` of the set-ups also crossing
+        flights on the scalar step: cost.ROUGH_FLIGHT_SHARE of a batched run of them, a
+        run per chunk (at least one set-up; a forced chunk is one), the times added, the
+        memory the larger (a set-up the windows cannot take is still handed back)."""
         if handed_back <= 0.0:
             return estimate
         run_setups = max(1.0, min(amplitude_chunk, n_amplitudes) * handed_back)
@@ -249,11 +251,12 @@ def estimate_work(
         )  # fmt: skip
         return budget.Estimate(
             what=estimate.what, work=estimate.work, unit=estimate.unit,
-            seconds=estimate.seconds + batched.seconds, bytes=max(estimate.bytes, batched.bytes),
+            seconds=estimate.seconds + cost.ROUGH_FLIGHT_SHARE * batched.seconds,
+            bytes=max(estimate.bytes, batched.bytes),
         )  # fmt: skip
 
-    # Set-ups that may leave contact at a rough exponent are handed back to the batched
-    # kernel: counted there too, on top of the lanes (an upper bound).
+    # Set-ups that may leave contact at a rough exponent cross their flights on the
+    # scalar step: counted as a share of a batched run, on top of the lanes (a bound).
     handed_back = rough_setups(model, param_axes, amplitudes)
     bound = with_batched(handed_back)
     if handed_back == 0.0 or bound.seconds <= budget.TIME_LIMIT_S or amplitudes is None:
