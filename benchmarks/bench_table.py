@@ -201,14 +201,17 @@ def job_forced_time_map(n_forces, n_amplitudes, rows):
     )
 
 
-def job_compliant_time_map(tangential, kernel, n_forces, n_amplitudes, rows, scaling=None):
-    """A compliant tangential contact, forces x amplitudes, 0.05 s, vs the scalar event
-    path: a TangentialSpring on the spring-lane kernel (one normal tape per amplitude,
-    integrators/spring_lanes.py), a MindlinSpring on the Mindlin-lane kernel (the same
-    tape, the stiffness following it: integrators/mindlin_lanes.py)."""
-    model = ms.Model(PARAMS, tangential=tangential)
+def job_compliant_time_map(tangential, kernel, n_forces, n_amplitudes, rows, scaling=None,
+                           params=PARAMS, top=3e-7):  # fmt: skip
+    """A compliant tangential contact, forces x amplitudes (0 to ``top`` [m]), 0.05 s, vs
+    the scalar event path: a TangentialSpring on the spring-lane kernel (one normal tape
+    per amplitude, integrators/spring_lanes.py), a MindlinSpring on the Mindlin-lane
+    kernel (the same tape, the stiffness following it: integrators/mindlin_lanes.py; on
+    a Hertz contact past A = y0 each flight crossed on the scalar step:
+    integrators/mindlin_windows.py)."""
+    model = ms.Model(params, tangential=tangential)
     forces = np.linspace(0.05, 0.95, n_forces)
-    amps = np.linspace(0.0, 3e-7, n_amplitudes)
+    amps = np.linspace(0.0, top, n_amplitudes)
 
     def run(f, a, duration=DURATION):
         return ms.sweep(model, None, force=f, amplitude=a, method="time", duration=duration)
@@ -218,7 +221,7 @@ def job_compliant_time_map(tangential, kernel, n_forces, n_amplitudes, rows, sca
     if scaling is not None:  # points: forces x amplitudes at the job's aspect ratio
         for k in (8, 4, 2, 1):
             n_f, n_a = max(n_forces // k, 2), max(n_amplitudes // k, 2)
-            f, a = np.linspace(0.05, 0.95, n_f), np.linspace(0.0, 3e-7, n_a)
+            f, a = np.linspace(0.05, 0.95, n_f), np.linspace(0.0, top, n_a)
             elapsed = seconds if k == 1 else best_time(run, f, a)[1]
             scaling.setdefault(f"{type(tangential).__name__} time map (points)", []).append(
                 (n_f * n_a, elapsed)
@@ -239,6 +242,8 @@ def job_compliant_time_map(tangential, kernel, n_forces, n_amplitudes, rows, sca
     per_traj_peer = peer_seconds / len(samples)
     per_traj = seconds / (n_forces * n_amplitudes)
     name = type(tangential).__name__
+    if params.m2 != PARAMS.m2:
+        name += f", m2 = {params.m2}, A to {top / params.static_deflection:.1f} y0"
     rows.append(
         {
             "job": f"time map, {name}, {n_forces}x{n_amplitudes} ({kernel})",
@@ -436,6 +441,22 @@ print(time.perf_counter() - started)
 """
 
 
+def cpu_model() -> str:
+    """The CPU's model name (Linux /proc/cpuinfo; the platform's processor elsewhere):
+    the development machine is lent on more than one kind of host, and absolute times
+    differ between them."""
+    try:
+        with open("/proc/cpuinfo", encoding="utf-8") as info:
+            for line in info:
+                if line.startswith("model name"):
+                    return line.split(":", 1)[1].strip()
+    except OSError:
+        pass
+    import platform
+
+    return platform.processor() or "unknown CPU"
+
+
 def _seconds_printed(code, env):
     """The last number a fresh interpreter running ``code`` prints."""
     run = [sys.executable, "-c", code]
@@ -542,7 +563,7 @@ def main(argv=None) -> int:
     args.out.mkdir(parents=True, exist_ok=True)
     quick = args.quick
     rows, scaling = [], {}
-    log(f"machine: {os.cpu_count()} CPUs, load {os.getloadavg()[0]:.2f}")
+    log(f"machine: {cpu_model()}, {os.cpu_count()} CPUs, load {os.getloadavg()[0]:.2f}")
     log("time map ...")
     job_time_map(64 if quick else 256, 32 if quick else 64, rows, scaling)
     log("forced time map ...")
@@ -557,6 +578,12 @@ def main(argv=None) -> int:
     job_compliant_time_map(
         mindlin, "Mindlin lanes", 32 if quick else 256, 8 if quick else 64, rows, scaling
     )
+    log("compliant time map, Mindlin on a Hertz contact with flights ...")
+    hertz = ms.Parameters(m2=1.5)
+    job_compliant_time_map(
+        mindlin, "Mindlin lanes, flights by windows", 16 if quick else 64, 4 if quick else 16,
+        rows, params=hertz, top=1.5 * hertz.static_deflection,
+    )  # fmt: skip
     log("steady map ...")
     _, peer64 = best_time(
         bvm.numpy_rk4_naive,
@@ -578,7 +605,9 @@ def main(argv=None) -> int:
     plot(scaling, args.out / "scaling.png")
     (args.out / "results.json").write_text(
         json.dumps(
-            {"rows": rows, "scaling": scaling, "load": os.getloadavg()[0]}, indent=1, default=str
+            {"rows": rows, "scaling": scaling, "load": os.getloadavg()[0], "cpu": cpu_model()},
+            indent=1,
+            default=str,
         )
     )
     header = ("job", "microslip", "peer", "ratio", "accuracy", "target", "pass")
