@@ -298,3 +298,36 @@ def test_a_forced_hertz_sweep_over_the_limit_is_estimated_on_the_set_ups_that_fl
     lanes_alone = seconds(in_contact)
     assert lanes_alone < budget.TIME_LIMIT_S < bound_in_contact  # accepted, not refused
     assert lanes_alone < seconds(flying) < bound_flying
+
+
+def test_lanes_the_gpu_hands_back_get_the_bits_of_the_cpu_run():
+    """What the GPU lanes hand back (a Hertz set-up's flights, a lane on a tie) the sweep
+    runs on the CPU lanes, lanes picked out of the run (compute._cpu_mindlin_lanes): each
+    must get the bits it has in a CPU run of the whole (a lane depends on nothing else),
+    whatever set-ups and forces it is picked with; a wrong set-up or force mapping
+    changes them."""
+    from microslip.integrators.mindlin_lanes import run_mindlin_lanes
+    from microslip.integrators.normal_tape import normal_coefficients
+    from microslip.simulation import initial_state_from_amplitude
+    from microslip.sweeps.compute import _cpu_mindlin_lanes
+
+    hertz = ms.Parameters(m2=1.5)
+    model = ms.Model(hertz, tangential=ms.MindlinSpring(0.8235))
+    y0, mg = hertz.static_deflection, hertz.mass * hertz.g
+    amplitudes = [0.5 * y0, 1.3 * y0, 2.0 * y0]
+    coeffs = np.tile(normal_coefficients(model.pack(0.0)), (3, 1))
+    normal0 = np.array([initial_state_from_amplitude(hertz, a)[:2] for a in amplitudes])
+    periods = np.array([ms.free_period(hertz, a) for a in amplitudes])
+    forces = np.array([0.2, 0.5, 0.9]) * hertz.mu * mg
+    groups = np.repeat(np.arange(3), forces.size)
+    lane_forces = np.tile(forces, 3)
+    mu_s, mu_k = np.full(9, hertz.mu), np.full(9, 0.8 * hertz.mu)
+    dt = shortest_period(model) / DEFAULT_RK4_STEPS_PER_PERIOD
+    setup_args = (coeffs, normal0, np.full(3, 0.8235))
+    whole = run_mindlin_lanes(*setup_args, groups, lane_forces, mu_s, mu_k, 0.002, dt,
+                              periods=periods)[0]  # fmt: skip
+    picked = np.array([4, 6, 8])  # set-ups 1, 2, 2 (not 0: run as 0, 1, 1); forces 1, 0, 2
+    x, back = _cpu_mindlin_lanes(picked, groups, setup_args, periods, lane_forces, mu_s,
+                                 mu_k, 0.002, dt)  # fmt: skip
+    assert back.size == 0
+    np.testing.assert_array_equal(x, whole[picked])
