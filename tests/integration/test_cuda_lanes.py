@@ -284,7 +284,8 @@ SIMULATED = textwrap.dedent(
         on_cpu = ms.sweep(static, None, **grid)
         on_gpu = ms.sweep(static, None, **grid, backend="cuda")
         assert np.array_equal(on_cpu.values, on_gpu.values) and np.abs(on_cpu.values).max() > 0
-    # A Hertz contact: the set-up in flight runs on the batched kernel on both.
+    # A Hertz contact: the set-up in flight runs on the CPU lanes on both (the GPU lanes
+    # hand it back to them).
     hertz = mindlin.replace(m2=1.5)
     y0 = hertz.params.static_deflection
     on_cpu = ms.sweep(hertz, None, force=[0.3, 0.9], amplitude=[0.5 * y0, 2.5 * y0], **options)

@@ -302,14 +302,14 @@ def test_a_forced_hertz_sweep_over_the_limit_is_estimated_on_the_set_ups_that_fl
 
 def test_lanes_the_gpu_hands_back_get_the_bits_of_the_cpu_run():
     """What the GPU lanes hand back (a Hertz set-up's flights, a lane on a tie) the sweep
-    runs on the CPU lanes, lanes picked out of the run (compute._cpu_mindlin_lanes): each
+    runs on the CPU lanes, lanes picked out of the run (mindlin_run._cpu_mindlin_lanes): each
     must get the bits it has in a CPU run of the whole (a lane depends on nothing else),
     whatever set-ups and forces it is picked with; a wrong set-up or force mapping
     changes them."""
     from microslip.integrators.mindlin_lanes import run_mindlin_lanes
     from microslip.integrators.normal_tape import normal_coefficients
     from microslip.simulation import initial_state_from_amplitude
-    from microslip.sweeps.compute import _cpu_mindlin_lanes
+    from microslip.sweeps.mindlin_run import _cpu_mindlin_lanes
 
     hertz = ms.Parameters(m2=1.5)
     model = ms.Model(hertz, tangential=ms.MindlinSpring(0.8235))

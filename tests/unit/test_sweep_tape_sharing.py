@@ -61,7 +61,8 @@ CASES = {
                  tangential=ms.TangentialSpring(P.contact_stiffness)),
         {}, [0.5 * Y0, 1.3 * Y0],
     ),
-    # A Hertz contact's set-ups that fly go to the batched kernel, each row with its μ.
+    # A Hertz contact's set-ups that fly: the lanes cross each flight on the scalar step,
+    # each row with its μ.
     "hertz mindlin": (
         ms.Model(ms.Parameters(m2=1.5), tangential=ms.MindlinSpring(0.8235)), {},
         [0.5 * ms.Parameters(m2=1.5).static_deflection,

@@ -5,7 +5,7 @@ time-domain map kernel of a contact point on a spring k_t = λ dN_el/dδ
 The structure of :mod:`microslip.integrators.spring_lanes`: the normal motion once per
 set-up (the tape of :mod:`microslip.integrators.normal_tape`), then per contact piece a
 branch-free pass over the lanes that advances each as if the piece held no switch and
-bounds its switching function, and the law of
+bounds its switching function (:mod:`~microslip.integrators.mindlin_pass`), and the law of
 :mod:`microslip.integrators.mindlin_lane_law` for the lanes it flags. What a piece's
 lanes share (the quartics k_t(τ), R(τ) = Ṅ/k_t and the stick's fundamental matrix Φ)
 is computed once per piece (:func:`~microslip.integrators.mindlin_lane_law.set_piece`;
@@ -47,6 +47,7 @@ from microslip.integrators import mindlin_windows as windows
 from microslip.integrators import normal_tape as nt
 from microslip.integrators import periodic_tape, threads
 from microslip.integrators.kernel import as_tuple
+from microslip.integrators.mindlin_pass import vector_pass
 from microslip.integrators.mindlin_piece import piece_table
 from microslip.integrators.shared_lanes import (
     FIRST_ROW,
@@ -90,76 +91,6 @@ def supports_exponent(m2):
     """True for the contact exponents m2 [-] whose set-ups this kernel runs through a
     flight: 1, 2 and >= 3 (module doc)."""
     return m2 == 1.0 or m2 == 2.0 or m2 >= 3.0
-
-
-@njit(cache=True, inline="always", error_model="numpy")
-def piece_constants(a, piece, h_int, h2_kint):
-    """The numbers of a contact piece that every lane shares (a tuple of floats for
-    :func:`free_piece`: a tuple, not the array, keeps the lane loop free of reference
-    counting, which LLVM cannot vectorise); ``h_int`` = h I(1), ``h2_kint`` = h² K(1)."""
-    h = piece[law.M_H]
-    r = piece[law.M_R : law.M_R + 5]
-    return (
-        h, piece[law.M_PHI11], piece[law.M_PHI12], piece[law.M_PHI21], piece[law.M_PHI22],
-        piece[law.M_PSI1], piece[law.M_PSI2], a[0], nt.poly(a, 1.0),
-        0.125 * piece[law.M_D2], 0.125 * piece[law.M_E1_2], 0.125 * piece[law.M_E2_2],
-        r[0], r[0] + r[1] + r[2] + r[3] + r[4],
-        0.125 * (h * piece[law.M_D1]), 0.125 * piece[law.M_R_2], 0.5 * h * h, h_int, h2_kint,
-    )  # fmt: skip
-
-
-@njit(cache=True, inline="always", error_model="numpy")
-def free_piece(k, s, xi, vi, fi, force, fm, km, mu_s, mu_k):
-    """(flag, x1, ẋ1, f1) of a lane over a contact piece as if it held no switch (Φ in
-    stick, the rigid law in slip), ``k`` from :func:`piece_constants`; ``flag`` where its
-    switching function may reach its boundary inside (g >= min(g(0), g(1)) - max|g''|/8)
-    or it lands here. Branch-free."""
-    h, phi11, phi12, phi21, phi22, psi1, psi2, p0, p1 = k[:9]
-    d2_8, e1_8, e2_8, r0, r1, h_d1_8, r2_8, h2_half, h_int, h2_kint = k[9:]
-    # Stick: (ẋ, e) through Φ(1), x through ∫ẋ.
-    e0 = fi - force
-    x_st = xi + psi1 * vi + psi2 * e0
-    v_st = phi11 * vi + phi12 * e0
-    f_st = force + phi21 * vi + phi22 * e0
-    margin = min(mu_s * p0 - abs(fi), mu_s * p1 - abs(f_st))
-    stick_low = margin - (mu_s * d2_8 + abs(vi) * e1_8 + abs(e0) * e2_8)
-    # Slip: the rigid law; its stop function s u̇ = s ẋ - μ_k R at the ends.
-    skm = s * km
-    v_sl = vi + (h * fm - skm * h_int)
-    x_sl = xi + (h * vi + h2_half * fm - skm * h2_kint)
-    g_ends = min(s * vi - mu_k * r0, s * v_sl - mu_k * r1)
-    slip_low = g_ends - (km * h_d1_8 + mu_k * r2_8)
-    stick = s == 0.0
-    landing = s * s > 1.5
-    flag = (stick & (stick_low <= 0.0)) | ((s != 0.0) & (slip_low <= 0.0)) | landing
-    x1 = x_st if stick else x_sl
-    v1 = v_st if stick else v_sl
-    f1 = f_st if stick else s * mu_k * p1
-    return flag, x1, v1, f1
-
-
-@njit(cache=True, error_model="numpy")
-def _vector_pass(lanes, n, a, piece, h_int, h2_kint):
-    """A contact piece for every lane as if it held no switch (:func:`free_piece`); a
-    flagged lane keeps its state. Returns the number flagged and the first of them (n
-    if none): the lanes a piece switches are few and close together in force order, and
-    the search for them starts there."""
-    k = piece_constants(a, piece, h_int, h2_kint)
-    n_flagged = 0
-    first = n
-    for i in range(n):
-        xi, vi, fi = lanes[X, i], lanes[V, i], lanes[FS, i]
-        flag, x1, v1, f1 = free_piece(
-            k, lanes[MODE, i], xi, vi, fi, lanes[FORCE, i], lanes[FM, i], lanes[KM, i],
-            lanes[MU_S, i], lanes[MU_K, i],
-        )  # fmt: skip
-        lanes[FLAG, i] = 1.0 if flag else 0.0
-        lanes[X, i] = xi if flag else x1
-        lanes[V, i] = vi if flag else v1
-        lanes[FS, i] = fi if flag else f1
-        n_flagged += 1 if flag else 0
-        first = min(first, i if flag else n)
-    return n_flagged, first
 
 
 @njit(cache=True)
@@ -298,7 +229,7 @@ def _run_rows(lanes, rows, lo, hi, pieces, cached, coarse, laws, flying, switche
             piece = pieces[0]
             if law.set_piece(piece, a, rows, r, laws) != 0:
                 return STEP_TOO_COARSE, flying
-        n_flagged, first = _vector_pass(
+        n_flagged, first = vector_pass(
             lanes, n, a, piece, h * rows[r, nt.INT1], h * h * rows[r, nt.KINT1]
         )
         for i in range(first, n):

@@ -8,10 +8,10 @@ quartics k_t(τ) and R(τ) and the stick's fundamental series, ~200 numbers) int
 table, then one thread per lane runs through its set-up's pieces
 (:func:`~microslip.integrators.spring_lanes_cuda.lanes_kernel`, as the spring lanes):
 the CPU kernel's closed form where a piece holds no switch
-(:func:`~microslip.integrators.mindlin_lanes.free_piece`), else
+(:func:`~microslip.integrators.mindlin_pass.free_piece`), else
 :func:`~microslip.integrators.mindlin_lane_law.lane_piece`. Both are the CPU kernel's
 own functions, compiled for the GPU. The table row also holds the 19 numbers of the
-piece's closed form (:func:`~microslip.integrators.mindlin_lanes.piece_constants`),
+piece's closed form (:func:`~microslip.integrators.mindlin_pass.piece_constants`),
 which a lane reads straight into registers; only a flagged lane copies the piece's
 scalars and series (to its degree) into its scratch.
 
@@ -42,11 +42,10 @@ from microslip.integrators import normal_tape as nt
 from microslip.integrators.mindlin_lanes import (
     HANDED_BACK,
     LEFT_ROUGH_CONTACT,
-    free_piece,
-    piece_constants,
     raise_if_too_coarse,
     supports_exponent,
 )
+from microslip.integrators.mindlin_pass import free_piece, piece_constants
 from microslip.integrators.shared_lanes import OK
 from microslip.integrators.shared_lanes_cuda import (
     TAPE_ROWS,
@@ -70,7 +69,7 @@ _SERIES_LENGTH = law.DEGREE + 1
 _ONE_ROW = (1, nt.ROW)  # shape of a tape row copied into thread-local memory
 _PIECE = law.PIECE  # a module constant: the size of a local array must be a literal
 _CONSTANTS = law.PIECE  # where a table row keeps the piece's free_piece constants
-_N_CONSTANTS = 19  # of mindlin_lanes.piece_constants
+_N_CONSTANTS = 19  # of mindlin_pass.piece_constants
 TABLE_WIDTH = law.PIECE + _N_CONSTANTS
 # Columns of the per-set-up constants: mass [kg], gravity [m/s²], ratio λ [-], and 1.0
 # once the table kernel has met a row in flight at an m2 outside supports_exponent.

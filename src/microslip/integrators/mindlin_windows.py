@@ -44,7 +44,7 @@ from microslip.integrators.batched import scalar_step
 from microslip.integrators.kernel import as_tuple, next_grid_point
 from microslip.integrators.methods import WORK_ROWS
 from microslip.integrators.spring_lanes import FORCE as LANE_FORCE
-from microslip.integrators.spring_lanes import FS, MODE, MU_K, MU_S, V, X
+from microslip.integrators.spring_lanes import FS, MODE, MU_K, MU_S, V, X, lift_off
 from microslip.integrators.tape_row import flight_piece
 from microslip.model.coefficients import (
     DRIVE_KIND,
@@ -227,7 +227,6 @@ def cross(window, lanes, switches, flagged, rows, r, r_switch, n_rows, final, dt
     the lanes fly on from its end (a lane that the scalar step kept in contact a
     rounding longer lifts off there, as the lanes' flight does: f = 0)."""
     resume, scratch, c_full = window
-    n = lanes.shape[1]
     landing = r_switch == r and not flight_piece(nt.coefficients(rows, r))
     last_touchdown = rows[r, nt.T0] if landing else -math.inf
     r_b = window_end(rows, r_switch, n_rows, last_touchdown, dt, final)
@@ -242,6 +241,5 @@ def cross(window, lanes, switches, flagged, rows, r, r_switch, n_rows, final, dt
     resume[0] = t_b
     flying = r_b < n_rows and flight_piece(nt.coefficients(rows, r_b))
     if flying:
-        for i in range(n):
-            lanes[MODE, i], lanes[FS, i] = FLIGHT_MODE, 0.0
+        lift_off(lanes, lanes.shape[1])
     return True, flying

@@ -169,12 +169,18 @@ def start_lanes(c, y0, ydot0, lanes, n):
 
 
 @njit(cache=True)
+def lift_off(lanes, n):
+    """Lanes [0, n) leave contact: every spring relaxes (f = 0, u = x) and flies."""
+    for i in range(n):
+        lanes[MODE, i], lanes[FS, i] = FLIGHT, 0.0
+
+
+@njit(cache=True)
 def fly(lanes, n, h, flying):
     """A tape piece in flight for lanes [0, n): on lift-off (``flying`` False) every
-    spring relaxes (f = 0, u = x), then every lane flies (:func:`_flight_pass`)."""
+    spring relaxes (:func:`lift_off`), then every lane flies (:func:`_flight_pass`)."""
     if not flying:
-        for i in range(n):
-            lanes[MODE, i], lanes[FS, i] = FLIGHT, 0.0
+        lift_off(lanes, n)
     _flight_pass(lanes, n, h)
 
 
