@@ -206,10 +206,10 @@ def normal_force_rate_call(t, y, ydot, c):
 
 
 @njit(cache=True, error_model="numpy")
-def raw_normal_force_rate_call(t, y, ydot, c):
+def raw_normal_force_rate_call(t, y, ydot, normal, c):
     """:func:`~microslip.model.normal.raw_normal_force_rate` [N/s] behind a compiled
     call."""
-    return raw_normal_force_rate(t, y, ydot, c)
+    return raw_normal_force_rate(t, y, ydot, normal, c)
 
 
 @njit(cache=True, error_model="numpy")
@@ -257,7 +257,9 @@ def contact_point_rates(t, s, mode, normal, c):
     stiffness = tangential_stiffness(delta, c)
     if mode == 0.0:
         return 0.0, stiffness * xdot
-    force_rate = mode * kinetic_coefficient(0.0, c) * raw_normal_force_rate_call(t, y, ydot, c)
+    force_rate = (
+        mode * kinetic_coefficient(0.0, c) * raw_normal_force_rate_call(t, y, ydot, normal, c)
+    )
     if stiffness <= 0.0:
         return xdot, force_rate
     return xdot - force_rate / stiffness, force_rate
