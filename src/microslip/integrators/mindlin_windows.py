@@ -139,13 +139,13 @@ def window_end(rows, r0, n_rows, last_touchdown, dt, final):
 @njit(cache=True)
 def _lane_coefficients(c_full, lanes, i):
     """The coefficient tuple of lane ``i``'s own model: its set-up's ``c_full``
-    (:func:`window_buffers`) with its force and friction coefficients."""
-    c = c_full.copy()
-    c[FORCE] = lanes[LANE_FORCE, i]
-    c[MU_STATIC] = lanes[MU_S, i]
-    c[MU] = lanes[MU_K, i]
-    c[FRICTION_KIND] = COULOMB if lanes[MU_S, i] == lanes[MU_K, i] else STATIC_KINETIC
-    return as_tuple(c)
+    (:func:`window_buffers`) with its force and friction coefficients, written into
+    ``c_full`` (the set-up's own scratch: no copy per lane and window)."""
+    c_full[FORCE] = lanes[LANE_FORCE, i]
+    c_full[MU_STATIC] = lanes[MU_S, i]
+    c_full[MU] = lanes[MU_K, i]
+    c_full[FRICTION_KIND] = COULOMB if lanes[MU_S, i] == lanes[MU_K, i] else STATIC_KINETIC
+    return as_tuple(c_full)
 
 
 @njit(cache=True)
