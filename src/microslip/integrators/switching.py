@@ -298,7 +298,7 @@ def first_switch(method, s0, s1, t, h, mode, c, rtol, atol, trial, extremum, wor
 
     The functions go in the model's order, the normal motion's (the contact) first.
     Once one flips at θ, each later one is screened and located only on the sub-step
-    up to just before θ (:func:`_before`): a flip after θ cannot come first, and past a
+    up to just before θ: a flip after θ cannot come first, and past a
     loss of contact the tangential functions' laws change, so their values and rates
     jump there. Screened over the whole step, such a jump looked like a crossing or an
     extremum, and its search crawled up to it (on a Hertz Mindlin contact, ~50 trial
@@ -312,40 +312,26 @@ def first_switch(method, s0, s1, t, h, mode, c, rtol, atol, trial, extremum, wor
         if not switch_active(which, mode, c):
             continue
         located_by = method_for(method, which, c)
-        if best == NO_SWITCH:
-            verdict, g0, g1, r0, r1 = _screen(which, t, h, mode, c, x0, x1)
-            if verdict == _CLEAR:
+        # The (sub-)step screened: the whole one, or up to two tolerances short of the
+        # earliest flip found (one call site of the inlined screening either way).
+        end, h_end, x_end = 1.0, h, x1
+        if best < NO_SWITCH:
+            end = best - 2.0 * bracket_start(t, h, 0.0, best, 0.0, 1.0)[1]
+            if not end > 0.0:
                 continue
-            theta = _resolve(
-                verdict, which, located_by, s0, t, h, mode, c, rtol, atol, g0, g1, r0, r1,
-                trial, extremum, work,
-            )  # fmt: skip
-        else:
-            theta = _before(which, located_by, s0, x0, t, h, best, mode, c, rtol, atol,
-                            trial, extremum, work)  # fmt: skip
+            h_end = end * h
+            advance(located_by, s0, t, h_end, mode, c, rtol, atol, trial, work)
+            x_end = state_tuple(trial)
+        verdict, g0, g1, r0, r1 = _screen(which, t, h_end, mode, c, x0, x_end)
+        if verdict == _CLEAR:
+            continue
+        theta = _resolve(
+            verdict, which, located_by, s0, t, h_end, mode, c, rtol, atol, g0, g1, r0, r1,
+            trial, extremum, work,
+        )  # fmt: skip
+        if theta < NO_SWITCH:
+            theta *= end  # a fraction of the whole step (exact for the whole step)
         if theta < best:
             best = theta
             which_best = which
     return best, which_best
-
-
-@njit(cache=True)
-def _before(which, method, s0, x0, t, h, best, mode, c, rtol, atol, trial, extremum, work):
-    """θ of the first flip of switching function ``which`` before θ = ``best`` of the
-    step (another function's flip), or NO_SWITCH: screened and located on the sub-step
-    from t to two tolerances short of ``best``."""
-    tolerance = bracket_start(t, h, 0.0, best, 0.0, 1.0)[1]
-    end = best - 2.0 * tolerance
-    if not end > 0.0:
-        return NO_SWITCH
-    h_end = end * h
-    advance(method, s0, t, h_end, mode, c, rtol, atol, trial, work)
-    x_end = state_tuple(trial)
-    verdict, g0, g1, r0, r1 = _screen(which, t, h_end, mode, c, x0, x_end)
-    if verdict == _CLEAR:
-        return NO_SWITCH
-    theta = _resolve(
-        verdict, which, method, s0, t, h_end, mode, c, rtol, atol, g0, g1, r0, r1, trial,
-        extremum, work,
-    )  # fmt: skip
-    return theta * end if theta < NO_SWITCH else NO_SWITCH
