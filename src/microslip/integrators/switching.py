@@ -98,13 +98,20 @@ def _inside_bracket(theta, lo, hi):
     return theta if lo < theta < hi else 0.5 * (lo + hi)
 
 
+@njit(cache=True, inline="always")
+def theta_tolerance(t, h):
+    """The tolerance in θ of a located switch in a step from t [s] of length h [s]: a
+    few ulps of t."""
+    return 4.0 * _EPS * (abs(t) + abs(h)) / abs(h)
+
+
 @njit(cache=True)
 def bracket_start(t, h, lo, hi, f_lo, f_hi):
     """(θ, tolerance, retained) that start a search of :func:`bracket_step` for a sign
     change in [lo, hi] of a step from t [s] of length h [s], with values ``f_lo``,
     ``f_hi`` at the ends: the false-position trial, the tolerance in θ (a few ulps of
     t) and no end kept yet."""
-    tolerance = 4.0 * _EPS * (abs(t) + abs(h)) / abs(h)
+    tolerance = theta_tolerance(t, h)
     theta = hi - f_hi * (hi - lo) / (f_hi - f_lo) if f_hi != f_lo else 0.5 * (lo + hi)
     return _inside_bracket(theta, lo, hi), tolerance, NONE_RETAINED
 
@@ -316,7 +323,7 @@ def first_switch(method, s0, s1, t, h, mode, c, rtol, atol, trial, extremum, wor
         # earliest flip found (one call site of the inlined screening either way).
         end, h_end, x_end = 1.0, h, x1
         if best < NO_SWITCH:
-            end = best - 2.0 * bracket_start(t, h, 0.0, best, 0.0, 1.0)[1]
+            end = best - 2.0 * theta_tolerance(t, h)
             if not end > 0.0:
                 continue
             h_end = end * h
