@@ -84,22 +84,33 @@ def _best_of_three(spec):
     return min(measured)
 
 
-@pytest.mark.parametrize(("n_forces", "n_amplitudes"), [(1, 1), (1, 12), (64, 64)])
-def test_time_estimate_is_not_below_the_measured_run(n_forces, n_amplitudes, monkeypatch):
+def test_time_estimate_is_not_below_the_measured_run():
     """Never far below the run (the 1-lane case was estimated 85x too low), nor absurdly
     above it. The estimate counts a free vibration's repeated tape (one period per
     set-up, lanes that repeat a period take the rest at once: shared_lanes._run_cycle,
     microslip.sweeps.cost.PARKED_LANE_PERIODS): a damped one, whose lanes step through
-    every period, is held to the same bounds."""
-    forces = np.linspace(0.2, 1.2, n_forces) if n_forces > 1 else [0.5]
-    amplitudes = np.linspace(0.0, 3e-7, n_amplitudes) if n_amplitudes > 1 else [2.5e-7]
-    periods = 20 if n_forces * n_amplitudes > 64 else 400
-    for model in (None, ms.Model(damping=ms.Viscous(0.01))):
-        spec = SweepSpec.build(model, None, forces, amplitudes, method="time",
-                               duration=periods * T0, amplitude_chunk=n_amplitudes)  # fmt: skip
-        estimated = spec.estimate().seconds
-        measured = _best_of_three(spec)
-        assert 0.5 * measured <= estimated <= 20.0 * measured, (model, estimated, measured)
+    every period, is held to the same bounds.
+
+    The estimate's rates are the development machine's, so its ratio to a run depends
+    on the host's speed: 1.0-1.9 on a slower host, 0.46 in one CI run (damped 64 x 64).
+    A miscount in one path, like the 85x defect, does not depend on it: the ratios of
+    the six cases, measured in one process, must agree within a factor of 4 (1.9 here), and each
+    stays within a factor 4 below and 20 above the run.
+    """
+    ratios = {}
+    for n_forces, n_amplitudes in [(1, 1), (1, 12), (64, 64)]:
+        forces = np.linspace(0.2, 1.2, n_forces) if n_forces > 1 else [0.5]
+        amplitudes = np.linspace(0.0, 3e-7, n_amplitudes) if n_amplitudes > 1 else [2.5e-7]
+        periods = 20 if n_forces * n_amplitudes > 64 else 400
+        for model in (None, ms.Model(damping=ms.Viscous(0.01))):
+            spec = SweepSpec.build(model, None, forces, amplitudes, method="time",
+                                   duration=periods * T0, amplitude_chunk=n_amplitudes)  # fmt: skip
+            estimated = spec.estimate().seconds
+            measured = _best_of_three(spec)
+            case = (n_forces, n_amplitudes, "free" if model is None else "damped")
+            ratios[case] = estimated / measured
+            assert 0.25 * measured <= estimated <= 20.0 * measured, (case, estimated, measured)
+    assert max(ratios.values()) <= 4.0 * min(ratios.values()), ratios
 
 
 def test_steady_estimate_is_not_below_the_measured_run():
