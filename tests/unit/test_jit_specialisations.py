@@ -26,7 +26,7 @@ from microslip.integrators import (
     methods,
     mindlin_lanes,
     normal_step,
-    shared_lanes,
+    rigid_pass,
     switching,
 )
 from microslip.integrators.batched import simulate_batch
@@ -58,7 +58,8 @@ DISPATCHERS = {
     "normal_force_rate_call": system.normal_force_rate_call,
     # Not the switching core, but as large: the rigid lanes over a range of tape rows,
     # the Mindlin lanes over a range of rows, the moves of parked lanes, the output.
-    "_lanes_over_rows": shared_lanes._lanes_over_rows,
+    "lanes_over_rows": rigid_pass.lanes_over_rows,
+    "rows_one_by_one": rigid_pass.rows_one_by_one,
     "_run_rows": mindlin_lanes._run_rows,
     "_copy_lane": lane_parking._copy_lane,
     "_write": kernel._write,

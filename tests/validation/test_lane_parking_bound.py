@@ -42,15 +42,15 @@ def periods_to_park(amplitude, forces, most):
     lanes, order, _ = sl.pack_lanes(c[None], np.zeros(n, dtype=np.int64), forces, mu, mu)
     sl.start_modes(lanes, 0, n, normal_force(0.0, y0, v0, as_tuple(c)))
     switches, flagged = np.zeros(n, dtype=np.int64), np.zeros(n, dtype=np.int64)
-    book, n_live, n_active = parking.new_book(n), n, sl._active_end(lanes, n)
+    book, n_live, n_active = parking.new_book(n), n, sl.active_end(lanes, n)
     for k in range(most):
         parking.mark_period_start(lanes, switches, flagged, book, n_live, sl.X, sl.V, sl.MODE)
-        status, n_active = sl._lanes_over_rows(
+        status, n_active = sl.lanes_over_rows(
             rows, np.int64(0), shape[0], lanes, n_live, n_active, switches, flagged
         )
         assert status == sl.OK
         n_live = parking.park(lanes, switches, flagged, book, n_live, k + 1, sl.X, sl.V, sl.MODE)
-        n_active = sl._active_end(lanes, min(n_active, n_live))
+        n_active = sl.active_end(lanes, min(n_active, n_live))
         if n_live == 0:
             break
     parked_at = np.full(n, most + 1.0)

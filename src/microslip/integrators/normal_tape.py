@@ -60,6 +60,7 @@ from microslip.integrators.tape_row import (  # noqa: F401  (re-exported)
     CRIT1,
     CRIT2,
     CRIT3,
+    EMPTY_SPAN,
     INT1,
     KINT1,
     NCRIT,
@@ -80,11 +81,13 @@ from microslip.integrators.tape_row import (  # noqa: F401  (re-exported)
     coefficients,
     critical_points,
     double_integral,
+    extend_span,
     flight_piece,
     has_flight,
     integral,
     poly,
     poly_rate,
+    span,
 )
 from microslip.model.coefficients import (
     DRIVE_AMPLITUDE,

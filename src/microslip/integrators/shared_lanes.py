@@ -5,11 +5,13 @@ forces and friction coefficients at a given normal set-up needs it once: it is
 integrated by the core RK4 kernel into a tape of pieces, each carrying the normal force
 as a quartic P(τ) in τ = (t - t0)/h (:mod:`microslip.integrators.normal_tape`). Each
 lane then is a body on a rigid contact under a constant force, advanced over each piece
-by the law of :mod:`microslip.integrators.rigid_lane_law`: a common piece is a few
-multiply-adds per lane (:func:`~microslip.integrators.rigid_lane_law.free_piece`), in a
-branch-free loop over the lanes that LLVM vectorises and that flags the lanes where a
-switch may lie inside the piece; a flagged lane is redone alone
-(:func:`~microslip.integrators.rigid_lane_law.lane_piece`).
+by the law of :mod:`microslip.integrators.rigid_lane_law`: a common piece (or a span
+of SPAN_ROWS pieces at once) is a few multiply-adds per lane
+(:func:`~microslip.integrators.rigid_lane_law.free_piece`), in a branch-free loop over
+the lanes that LLVM vectorises and that flags the lanes where a switch may lie inside;
+a flagged lane is redone alone, piece by piece
+(:func:`~microslip.integrators.rigid_lane_law.lane_piece`): the passes are
+:mod:`microslip.integrators.rigid_pass`'s.
 
 Every lane's arithmetic depends only on its own parameters and its group's tape, and the
 vector loop is compiled without fastmath (no FMA contraction): a lane's result is
@@ -32,14 +34,28 @@ from microslip.integrators import lane_parking as parking
 from microslip.integrators import normal_tape as nt
 from microslip.integrators import periodic_tape, threads
 from microslip.integrators.kernel import as_tuple
-from microslip.integrators.rigid_lane_law import free_piece, lane_piece
+from microslip.integrators.rigid_pass import (  # noqa: F401  (re-exported)
+    DIRECTION,
+    FLAG,
+    FM,
+    KM,
+    LANE_ROWS,
+    LANE_STALLED,
+    MODE,
+    N_BALANCE,
+    N_RELEASE,
+    OK,
+    SPAN_ROWS,
+    V,
+    X,
+    active_end,
+    lanes_over_rows,
+)
 from microslip.integrators.setup_copies import SetupCopies
 from microslip.model.coefficients import MASS
 from microslip.model.normal import normal_force
 
-# Status per group.
-OK = 0
-LANE_STALLED = 5  # a lane switched more than MAX_SWITCHES_PER_STEP times in one piece
+# Status per group: OK and LANE_STALLED (rigid_pass, re-exported here), or
 STOPPED = 9  # an interrupt raised the run's stop flag (threads.stop_flag): results unread
 
 
@@ -93,35 +109,6 @@ def raise_on_failure(status: np.ndarray, kernel: str, handed_back=None, lanes=No
     raise error
 
 
-# Rows of the lane array of a group (one array: a compiled call counts each array
-# argument once, so the per-piece pass takes one).
-FM, KM, N_RELEASE, N_BALANCE, DIRECTION, X, V, MODE, FLAG = range(9)
-LANE_ROWS = 9
-
-
-@njit(cache=True, error_model="numpy")
-def _vector_pass(lanes, n_range, h, h_int, h2_kint, p_min, p_max):
-    """A piece for lanes [0, n_range) as if it held no switch (:func:`free_piece`),
-    vectorised. A flagged lane keeps its state. Returns the number of flagged lanes and
-    the last of them (-1 if none): the lanes a piece switches are few and close together
-    in the sorted order, and the search for them starts there."""
-    n_flagged = 0
-    last = -1
-    for i in range(n_range):
-        vi = lanes[V, i]
-        xi = lanes[X, i]
-        f, x1, v1 = free_piece(
-            lanes[MODE, i], vi, xi, lanes[FM, i], lanes[KM, i], lanes[N_RELEASE, i],
-            lanes[N_BALANCE, i], h, h_int, h2_kint, p_min, p_max,
-        )  # fmt: skip
-        lanes[FLAG, i] = 1.0 if f else 0.0
-        lanes[X, i] = xi if f else x1
-        lanes[V, i] = vi if f else v1
-        n_flagged += 1 if f else 0
-        last = max(last, i if f else -1)
-    return n_flagged, last
-
-
 @njit(cache=True)
 def start_modes(lanes, lo, hi, n0):
     """Lanes [lo, hi) at rest start to slide towards F unless |F| <= μ_s N(0) (2.2);
@@ -129,14 +116,6 @@ def start_modes(lanes, lo, hi, n0):
     for i in range(lo, hi):
         if lanes[MODE, i] == 0.0 and lanes[V, i] == 0.0 and n0 < lanes[N_RELEASE, i]:
             lanes[MODE, i] = lanes[DIRECTION, i]
-
-
-@njit(cache=True)
-def _active_end(lanes, n):
-    """One past the last of lanes [0, n) that is not stuck (0 if none)."""
-    while n > 0 and lanes[MODE, n - 1] == 0.0:
-        n -= 1
-    return n
 
 
 @njit(cache=True)
@@ -163,50 +142,9 @@ def put_group(lanes, switches, flagged, lo, group, group_switches, group_flagged
         flagged[lo + i] = group_flagged[i]
 
 
-# Row 0 as a NumPy integer: a literal 0 would compile _lanes_over_rows a second time, for
+# Row 0 as a NumPy integer: a literal 0 would compile lanes_over_rows a second time, for
 # Literal[int](0) beside int64 (~2 s of cold compile; docs/design.md).
 FIRST_ROW = np.int64(0)
-
-
-@njit(cache=True)
-def _lanes_over_rows(tape, r0, r1, lanes, n, n_active, switches, flagged):
-    """Lanes [0, n) (sorted by decreasing |F|/μ_s) through rows [r0, r1) of ``tape``,
-    in place; ``n_active`` as in :func:`_run_group`. Returns (status, n_active)."""
-    for r in range(r0, r1):
-        h = tape[r, nt.H]
-        p_min = tape[r, nt.PMIN]
-        # Lanes a piece can release: |F|/μ_s > min P, a prefix (bisection).
-        lo, hi = 0, n
-        while lo < hi:
-            mid = (lo + hi) // 2
-            if lanes[N_RELEASE, mid] > p_min:
-                lo = mid + 1
-            else:
-                hi = mid
-        n_range = max(n_active, lo)
-        n_flagged, last = _vector_pass(
-            lanes, n_range, h, h * tape[r, nt.INT1], h * h * tape[r, nt.KINT1], p_min,
-            tape[r, nt.PMAX],
-        )  # fmt: skip
-        a = nt.coefficients(tape, r)
-        crit = nt.critical_points(tape, r)
-        for i in range(last, -1, -1):  # lanes are independent: any order
-            if n_flagged == 0:  # the rest of the lanes went through the vector pass
-                break
-            if lanes[FLAG, i] != 0.0:
-                n_flagged -= 1
-                flagged[i] += 1
-                xi, vi, mi, k = lane_piece(
-                    a, crit, h, lanes[FM, i], lanes[KM, i], lanes[N_RELEASE, i],
-                    lanes[N_BALANCE, i], lanes[DIRECTION, i], lanes[X, i], lanes[V, i],
-                    lanes[MODE, i],
-                )  # fmt: skip
-                if k < 0:
-                    return LANE_STALLED, n_active
-                switches[i] += k
-                lanes[X, i], lanes[V, i], lanes[MODE, i] = xi, vi, mi
-        n_active = _active_end(lanes, n_range)
-    return OK, n_active
 
 
 @njit(cache=True)
@@ -222,7 +160,7 @@ def _run_group(c, y0, ydot0, cycle, shape, t_end, dt, lanes, switches, flagged, 
     (:func:`threads.report`)."""
     n = lanes.shape[1]
     start_modes(lanes, 0, n, normal_force(0.0, y0, ydot0, as_tuple(c)))
-    n_active = _active_end(lanes, n)
+    n_active = active_end(lanes, n)
     if shape[0] > 0:
         return _run_cycle(cycle, shape, lanes, switches, flagged, n_active, park, stop, item)
     carry, tape, work = nt.tape_buffers(y0, ydot0)
@@ -232,7 +170,7 @@ def _run_group(c, y0, ydot0, cycle, shape, t_end, dt, lanes, switches, flagged, 
         rows, tape_status = nt.fill_tape(carry, c, t_end, dt, tape, work)
         if tape_status > 1:
             return tape_status
-        status, n_active = _lanes_over_rows(
+        status, n_active = lanes_over_rows(
             tape, FIRST_ROW, rows, lanes, n, n_active, switches, flagged
         )
         if status != OK:
@@ -266,7 +204,7 @@ def _run_cycle(cycle, shape, lanes, switches, flagged, n_active, park, stop, ite
             return STOPPED
         if park:
             parking.mark_period_start(lanes, switches, flagged, book, n_live, X, V, MODE)
-        status, n_active = _lanes_over_rows(
+        status, n_active = lanes_over_rows(
             cycle, FIRST_ROW, period_rows, lanes, n_live, n_active, switches, flagged
         )
         if status != OK:
@@ -275,13 +213,13 @@ def _run_cycle(cycle, shape, lanes, switches, flagged, n_active, park, stop, ite
         if park and k + 1 < repeats:
             n_live = parking.park(lanes, switches, flagged, book, n_live, k + 1, X, V, MODE)
             # The live lanes kept their order: the moving ones are still below n_active.
-            n_active = _active_end(lanes, min(n_active, n_live))
+            n_active = active_end(lanes, min(n_active, n_live))
             if n_live == 0:
                 break  # every lane parked: the periods left cost nothing (a long run's)
     if n_live < n:
         parking.unpark(lanes, switches, flagged, book, n_live, repeats, X)
-    return _lanes_over_rows(
-        cycle, period_rows, period_rows + tail_rows, lanes, n, _active_end(lanes, n),
+    return lanes_over_rows(
+        cycle, period_rows, period_rows + tail_rows, lanes, n, active_end(lanes, n),
         switches, flagged,
     )[0]  # fmt: skip
 

@@ -48,6 +48,7 @@ from microslip.integrators.shared_lanes import (
     N_BALANCE,
     N_RELEASE,
     OK,
+    SPAN_ROWS,
     V,
     X,
     pack_lanes,
@@ -128,6 +129,36 @@ def _kernel():
         x, v, mode, k = lane_piece(a, crit, h, fm, km, n_release, n_balance, direction, x, v, mode)
         return x, v, mode, k, 1
 
+    @cuda.jit(device=True)
+    def lane_span(tape, r0, r1, fm, km, n_release, n_balance, direction, x, v, mode):
+        # One lane through rows [r0, r1) of ``tape``: as one piece (normal_tape.span)
+        # where it holds no switch, else row by row, as the CPU kernel's spans
+        # (rigid_pass.lanes_over_rows). (x, ẋ, mode, switches (< 0: stalled), rows
+        # flagged.)
+        span = nt.EMPTY_SPAN
+        for r in range(r0, r1):
+            span = nt.extend_span(
+                span, tape[r, nt.H], tape[r, nt.INT1], tape[r, nt.KINT1], tape[r, nt.PMIN],
+                tape[r, nt.PMAX],
+            )  # fmt: skip
+        length, h_int, h2_kint, p_min, p_max = span
+        flag, x1, v1 = free_piece(
+            mode, v, x, fm, km, n_release, n_balance, length, h_int, h2_kint, p_min, p_max
+        )
+        if not flag:
+            return x1, v1, mode, 0, 0
+        switches = 0
+        flags = 0
+        for r in range(r0, r1):
+            x, v, mode, k, f = lane_row(
+                tape, r, fm, km, n_release, n_balance, direction, x, v, mode
+            )
+            flags += f
+            if k < 0:
+                return x, v, mode, k, flags
+            switches += k
+        return x, v, mode, switches, flags
+
     @cuda.jit
     def lanes_kernel(tapes, rows, lane_group, cycles, offsets, cycle_shape, lanes, done,
                      switches, flagged, stalled):  # fmt: skip
@@ -166,10 +197,11 @@ def _kernel():
                 x_mark, v_mark, mode_mark = x, v, mode
                 switches_mark, flagged_mark = n_switches, n_flagged
                 lo, hi = (period, period + tail) if p == repeats else (0, period)
-                for r in range(lo, hi):
-                    x, v, mode, k, f = lane_row(
-                        cycle, r, fm, km, n_release, n_balance, direction, x, v, mode
-                    )
+                for r in range(lo, hi, SPAN_ROWS):
+                    x, v, mode, k, f = lane_span(
+                        cycle, r, min(r + SPAN_ROWS, hi), fm, km, n_release, n_balance,
+                        direction, x, v, mode,
+                    )  # fmt: skip
                     n_flagged += f
                     if k < 0:
                         ok = False
@@ -180,10 +212,11 @@ def _kernel():
                 p += 1
         else:
             tape = tapes[g]
-            for r in range(rows[g]):
-                x, v, mode, k, f = lane_row(
-                    tape, r, fm, km, n_release, n_balance, direction, x, v, mode
-                )
+            for r in range(0, rows[g], SPAN_ROWS):
+                x, v, mode, k, f = lane_span(
+                    tape, r, min(r + SPAN_ROWS, rows[g]), fm, km, n_release, n_balance,
+                    direction, x, v, mode,
+                )  # fmt: skip
                 n_flagged += f
                 if k < 0:
                     ok = False
@@ -346,8 +379,9 @@ def run_shared_cuda(normal_coeffs, normal_states0, group_of_lane, forces, mu_sta
     """:func:`~microslip.integrators.shared_lanes.run_shared` with the lanes on the GPU
     (same arguments and returns, SI units); ``tape_rows`` sets the pieces per set-up
     in a block of tapes (default: TAPE_ROWS, fewer where the block would exceed
-    TAPE_BLOCK_BYTES). Raises RuntimeError when no GPU can be used
-    (:func:`cuda_unavailable`) or a normal integration or a lane fails."""
+    TAPE_BLOCK_BYTES), rounded down to whole spans (``rigid_pass.SPAN_ROWS``). Raises
+    RuntimeError when no GPU can be used (:func:`cuda_unavailable`) or a normal
+    integration or a lane fails."""
     reason = cuda_unavailable()
     if reason is not None:
         raise RuntimeError(reason)
@@ -365,6 +399,11 @@ def run_shared_cuda(normal_coeffs, normal_states0, group_of_lane, forces, mu_sta
         n0 = normal_force(0.0, y0, ydot0, as_tuple(normal_coeffs[g]))  # the tuple form
         start_modes(lanes, starts[g], starts[g + 1], n0)
     lane_group = np.repeat(np.arange(n_groups), np.diff(starts))
+    if tape_rows is None:
+        tape_rows = max(16, min(TAPE_ROWS, TAPE_BLOCK_BYTES // (n_groups * nt.ROW * 8)))
+    # Blocks of whole spans: the lanes then take the CPU kernel's spans of a tape's rows
+    # (every SPAN_ROWS from its start, nt.TAPE_ROWS a multiple), none across two blocks.
+    tape_rows = max(SPAN_ROWS, int(tape_rows) // SPAN_ROWS * SPAN_ROWS)
     cycles = periodic_tape.cycles(normal_coeffs, normal_states0, periods, float(t_end), float(dt))
     cycle_shape = cycles[2][:, :3].astype(np.int64)  # period rows, tail rows, repeats
     cycle_rows = cycles[0] if cycles[0].shape[0] > 0 else np.zeros((1, nt.ROW))  # none: 1 row

@@ -12,13 +12,16 @@ state (y [m], ẏ [m/s], ÿ [m/s^2]) at both ends.
 This module holds what is known of a piece without integrating anything: the column
 indices of a row, the quartic's fit to the end and middle values (:func:`_quartic`), its
 extremes and critical points (:func:`_extremes`), the readers of a row
-(:func:`coefficients`, :func:`critical_points`) and the polynomial functions the lane
-laws evaluate inside a piece (:func:`poly`, :func:`poly_rate`, :func:`integral`,
-:func:`double_integral`; also called from the CUDA lane kernels). All are in τ: in
-time, dP/dt = P'(τ)/h [N/s], ∫ P dt = h I [N s] and the double integral h² K [N s²].
+(:func:`coefficients`, :func:`critical_points`), a span of rows as one piece
+(:func:`span`) and the polynomial functions the lane laws evaluate inside a piece
+(:func:`poly`, :func:`poly_rate`, :func:`integral`, :func:`double_integral`; also
+called from the CUDA lane kernels). All are in τ: in time, dP/dt = P'(τ)/h [N/s],
+∫ P dt = h I [N s] and the double integral h² K [N s²].
 """
 
 from __future__ import annotations
+
+import math
 
 from numba import njit
 
@@ -54,6 +57,41 @@ def _quartic(n0, d0, nm, n1, d1):
 def coefficients(tape, r):
     """The quartic's coefficients (a0, ..., a4) [N] of tape row r, as a tuple."""
     return tape[r, A0], tape[r, A1], tape[r, A2], tape[r, A3], tape[r, A4]
+
+
+# A span of rows as one piece, for a lane law whose update over a piece needs only its
+# length, integrals and extremes of N (the rigid one,
+# :func:`~microslip.integrators.rigid_lane_law.free_piece`): (L [s], ∫ N dt [N s],
+# ∫ (t1 - t) N dt [N s²], min N [N], max N [N]) over the span [t0, t1].
+EMPTY_SPAN = (0.0, 0.0, 0.0, math.inf, -math.inf)
+
+
+@njit(cache=True, inline="always")
+def extend_span(span, h, int1, kint1, p_min, p_max):
+    """``span`` followed by a row of length h [s], integrals I(1), K(1) [N] and extremes
+    of P p_min, p_max [N]: ∫ (t1 - t) N dt gains the row's h² K(1) and h times the
+    span's ∫ N dt before it. From EMPTY_SPAN, one row gives h, h I(1), h² K(1) and its
+    extremes, bit for bit. Takes the row's values, not the tape: the CUDA lane kernels
+    call it on their own reads of a tape."""
+    length, first, second, low, high = span
+    return (
+        length + h,
+        first + h * int1,
+        second + (h * first + h * h * kint1),
+        min(low, p_min),
+        max(high, p_max),
+    )
+
+
+@njit(cache=True)
+def span(tape, r0, r1):
+    """Rows [r0, r1) of ``tape`` as one piece (:data:`EMPTY_SPAN`), in row order."""
+    result = EMPTY_SPAN
+    for r in range(r0, r1):
+        result = extend_span(
+            result, tape[r, H], tape[r, INT1], tape[r, KINT1], tape[r, PMIN], tape[r, PMAX]
+        )
+    return result
 
 
 @njit(cache=True)
