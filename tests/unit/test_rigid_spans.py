@@ -79,7 +79,7 @@ def test_lanes_through_spans_agree_with_lanes_row_by_row():
     mu_s, mu_k = np.full(forces.size, 0.12), np.full(forces.size, 0.1)
     results = []
     for run in (rigid_pass.lanes_over_rows, rigid_pass.rows_one_by_one):
-        lanes, order, _ = pack_lanes(coeffs[None, :], groups, forces, mu_s, mu_k)
+        lanes = pack_lanes(coeffs[None, :], groups, forces, mu_s, mu_k)[0]
         n = lanes.shape[1]
         start_modes(lanes, 0, n, normal_force(0.0, PARAMS.static_deflection, 0.0,
                                               as_tuple(coeffs)))  # fmt: skip

@@ -134,7 +134,8 @@ def _kernel():
         # One lane through rows [r0, r1) of ``tape``: as one piece (normal_tape.span)
         # where it holds no switch, else row by row, as the CPU kernel's spans
         # (rigid_pass.lanes_over_rows). (x, ẋ, mode, switches (< 0: stalled), rows
-        # flagged.)
+        # flagged.) The loop is nt.span's on this thread's reads of the tape: under
+        # numba's CUDA simulator a compiled function cannot take the kernel's arrays.
         span = nt.EMPTY_SPAN
         for r in range(r0, r1):
             span = nt.extend_span(
