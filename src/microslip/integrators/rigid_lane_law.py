@@ -218,9 +218,10 @@ def free_piece(mode, v, x, fm, km, n_release, n_balance, h, h_int, h2_kint, p_mi
     """(flag, x1, ẋ1) of a lane over a piece as if it held no switch: the closed form of
     the module doc in slip, the state held in stick; ``flag`` is True where a switch may
     lie inside the piece (module doc), and the lane must be redone by
-    :func:`lane_piece`. ``h_int`` = h I(1), ``h2_kint`` = h² K(1); p_min, p_max [N] the
-    piece's extremes of P. Branch-free: every lane of a vector loop (or a GPU warp) runs
-    the same instructions."""
+    :func:`lane_piece`. ``h_int`` = h I(1) = ∫ N dt [N s], ``h2_kint`` = h² K(1) =
+    ∫ (t1 - t) N dt [N s²]; p_min, p_max [N] the piece's extremes of P. The same over a
+    span of pieces of total length h (:func:`~microslip.integrators.normal_tape.span`).
+    Branch-free: every lane of a vector loop (or a GPU warp) runs the same instructions."""
     s = mode
     active = s * s
     skm = s * km

@@ -41,10 +41,13 @@ SPAN_ROWS = 8
 
 @njit(cache=True, error_model="numpy")
 def _vector_pass(lanes, n_range, h, h_int, h2_kint, p_min, p_max):
-    """A piece for lanes [0, n_range) as if it held no switch (:func:`free_piece`),
-    vectorised. A flagged lane keeps its state. Returns the number of flagged lanes and
-    the last of them (-1 if none): the lanes a piece switches are few and close together
-    in the sorted order, and the search for them starts there."""
+    """A piece, or a span of pieces (:func:`~microslip.integrators.normal_tape.span`),
+    for lanes [0, n_range) as if it held no switch (:func:`free_piece`), vectorised: h
+    its length [s], ``h_int`` = ∫ N dt [N s], ``h2_kint`` = ∫ (t1 - t) N dt [N s²],
+    p_min, p_max the extremes of N [N]. A flagged lane keeps its state. Returns the
+    number of flagged lanes and the last of them (-1 if none): the lanes a piece switches
+    are few and close together in the sorted order, and the search for them starts
+    there."""
     n_flagged = 0
     last = -1
     for i in range(n_range):
