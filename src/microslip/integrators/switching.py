@@ -315,20 +315,23 @@ def first_switch(method, s0, s1, t, h, mode, c, rtol, atol, trial, extremum, wor
     x1 = state_tuple(s1)
     best = NO_SWITCH
     which_best = -1
+    # The (sub-)step screened: the whole one, or up to two tolerances short of the
+    # earliest flip found (one call site of the inlined screening either way). A
+    # sub-step is stepped once for each earliest flip and method, not once a function.
+    end, h_end, x_end = 1.0, h, x1
+    sub_best, sub_method = NO_SWITCH, -1
     for which in range(N_SWITCHES):
         if not switch_active(which, mode, c):
             continue
         located_by = method_for(method, which, c)
-        # The (sub-)step screened: the whole one, or up to two tolerances short of the
-        # earliest flip found (one call site of the inlined screening either way).
-        end, h_end, x_end = 1.0, h, x1
-        if best < NO_SWITCH:
+        if best < NO_SWITCH and (best != sub_best or located_by != sub_method):
             end = best - 2.0 * theta_tolerance(t, h)
             if not end > 0.0:
                 continue
             h_end = end * h
             advance(located_by, s0, t, h_end, mode, c, rtol, atol, trial, work)
             x_end = state_tuple(trial)
+            sub_best, sub_method = best, located_by
         verdict, g0, g1, r0, r1 = _screen(which, t, h_end, mode, c, x0, x_end)
         if verdict == _CLEAR:
             continue
