@@ -26,6 +26,7 @@ from numba import njit
 
 from microslip import _jit_cache  # noqa: F401  (registers the cache before any @njit)
 from microslip.integrators import normal_tape as nt
+from microslip.integrators import threads
 
 
 def cycle_periods(periods, n_setups: int) -> np.ndarray:
@@ -123,3 +124,33 @@ def repeat_rows(carry, tape, cycle, shape):
         j += 1
     carry[nt.C_K] = j
     return rows, (0 if j >= total else 1)
+
+
+def fill_blocks(normal_c, carries, works, tapes, rows, status, t_end, dt, cycles, offsets,
+                shapes):  # fmt: skip
+    """The next block of every set-up's tape (``tapes[g]``, its row count in
+    ``rows[g]``), in parallel over the set-ups: the GPU lanes' blocks. ``status`` 1 = more
+    to come (fill), 0 = done (no rows), > 1 = failed (no rows). ``cycles``, ``offsets``,
+    ``shapes``: the set-ups' periodic cycles (:func:`cycles`), whose rows
+    :func:`repeat_rows` serves; without one (period rows 0) a tape is filled step by step
+    (:func:`~microslip.integrators.normal_tape.fill_tape`)."""
+    threads.run_ranges(
+        _fill_block_range, normal_c.shape[0], normal_c, carries, works, tapes, rows, status, t_end,
+        dt, cycles, offsets, shapes, per_task=1,
+    )  # fmt: skip
+
+
+@njit(cache=True, nogil=True)
+def _fill_block_range(g_lo, g_hi, normal_c, carries, works, tapes, rows, status, t_end, dt, cycles,
+                offsets, shapes):  # fmt: skip
+    """Set-ups [g_lo, g_hi) of :func:`fill_blocks`."""
+    for g in range(g_lo, g_hi):
+        if status[g] != 1:
+            rows[g] = 0
+            continue
+        cycle, shape = group_cycle(cycles, offsets, shapes, g)
+        if shape[0] > 0:
+            rows[g], status[g] = repeat_rows(carries[g], tapes[g], cycle, shape)
+        else:
+            rows[g], status[g] = nt.fill_tape(carries[g], normal_c[g], t_end, dt, tapes[g],
+                                              works[g])  # fmt: skip

@@ -34,9 +34,8 @@ from microslip.integrators import lane_parking as parking
 from microslip.integrators import normal_tape as nt
 from microslip.integrators import periodic_tape, threads
 from microslip.integrators.kernel import as_tuple
-from microslip.integrators.rigid_pass import (  # noqa: F401  (re-exported)
+from microslip.integrators.rigid_pass import (
     DIRECTION,
-    FLAG,
     FM,
     KM,
     LANE_ROWS,
@@ -45,7 +44,6 @@ from microslip.integrators.rigid_pass import (  # noqa: F401  (re-exported)
     N_BALANCE,
     N_RELEASE,
     OK,
-    SPAN_ROWS,
     V,
     X,
     active_end,
@@ -55,7 +53,7 @@ from microslip.integrators.setup_copies import SetupCopies
 from microslip.model.coefficients import MASS
 from microslip.model.normal import normal_force
 
-# Status per group: OK and LANE_STALLED (rigid_pass, re-exported here), or
+# Status per group: rigid_pass.OK, rigid_pass.LANE_STALLED, or
 STOPPED = 9  # an interrupt raised the run's stop flag (threads.stop_flag): results unread
 
 

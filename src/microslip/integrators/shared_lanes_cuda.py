@@ -31,15 +31,13 @@ import functools
 import threading
 
 import numpy as np
-from numba import njit
 
-from microslip import _jit_cache  # noqa: F401  (registers the cache before any @njit)
 from microslip.integrators import normal_tape as nt
-from microslip.integrators import periodic_tape, threads
+from microslip.integrators import periodic_tape
 from microslip.integrators.kernel import as_tuple
 from microslip.integrators.lane_parking import after_periods, starts_as_before
 from microslip.integrators.rigid_lane_law import free_piece, lane_piece
-from microslip.integrators.shared_lanes import (
+from microslip.integrators.rigid_pass import (
     DIRECTION,
     FM,
     KM,
@@ -51,6 +49,8 @@ from microslip.integrators.shared_lanes import (
     SPAN_ROWS,
     V,
     X,
+)
+from microslip.integrators.shared_lanes import (
     pack_lanes,
     raise_on_failure,
     start_modes,
@@ -92,6 +92,14 @@ def _give_back_pinned(shape, buffers):
     with _PINNED_LOCK:
         _PINNED.clear()
         _PINNED[shape] = buffers
+
+
+def block_rows(n_groups: int, tape_rows: int | None = None) -> int:
+    """Pieces per set-up in a block of tapes of ``n_groups`` set-ups: ``tape_rows``
+    where given, else TAPE_ROWS, fewer where the block would exceed TAPE_BLOCK_BYTES."""
+    if tape_rows is not None:
+        return int(tape_rows)
+    return max(16, min(TAPE_ROWS, TAPE_BLOCK_BYTES // (n_groups * nt.ROW * 8)))
 
 
 def cuda_unavailable() -> str | None:
@@ -232,35 +240,6 @@ def _kernel():
     return lanes_kernel
 
 
-def _fill_tapes(normal_c, carries, works, tapes, rows, status, t_end, dt, cycles, offsets,
-                shapes):  # fmt: skip
-    """The next block of every set-up's tape, in parallel over the set-ups: ``status``
-    1 = more to come (fill), 0 = done (no rows), > 1 = failed (no rows). ``cycles``,
-    ``offsets``, ``shapes``: the set-ups' periodic cycles
-    (:func:`~microslip.integrators.periodic_tape.cycles`); without one (period rows 0)
-    a tape is filled step by step."""
-    threads.run_ranges(
-        _fill_range, normal_c.shape[0], normal_c, carries, works, tapes, rows, status, t_end,
-        dt, cycles, offsets, shapes, per_task=1,
-    )  # fmt: skip
-
-
-@njit(cache=True, nogil=True)
-def _fill_range(g_lo, g_hi, normal_c, carries, works, tapes, rows, status, t_end, dt, cycles,
-                offsets, shapes):  # fmt: skip
-    """Set-ups [g_lo, g_hi) of :func:`_fill_tapes`."""
-    for g in range(g_lo, g_hi):
-        if status[g] != 1:
-            rows[g] = 0
-            continue
-        cycle, shape = periodic_tape.group_cycle(cycles, offsets, shapes, g)
-        if shape[0] > 0:
-            rows[g], status[g] = periodic_tape.repeat_rows(carries[g], tapes[g], cycle, shape)
-        else:
-            rows[g], status[g] = nt.fill_tape(carries[g], normal_c[g], t_end, dt, tapes[g],
-                                              works[g])  # fmt: skip
-
-
 def run_blocks(kernel, normal_coeffs, normal_states0, n_lanes, t_end, dt, tape_rows, stream,
                lane_args, periods=None, prepare=None, cycles=None,
                cycles_on_gpu=False):  # fmt: skip
@@ -281,8 +260,7 @@ def run_blocks(kernel, normal_coeffs, normal_states0, n_lanes, t_end, dt, tape_r
     carries = np.empty((n_groups, nt.CARRY))
     for g in range(n_groups):
         carries[g] = nt.start_tape(normal_states0[g, 0], normal_states0[g, 1])
-    if tape_rows is None:
-        tape_rows = max(16, min(TAPE_ROWS, TAPE_BLOCK_BYTES // (n_groups * nt.ROW * 8)))
+    tape_rows = block_rows(n_groups, tape_rows)
     works = np.zeros((n_groups, nt.WORK_SCRATCH, nt.N_STATE))
     status = np.ones(n_groups, dtype=np.int64)
     if cycles_on_gpu:
@@ -297,7 +275,8 @@ def run_blocks(kernel, normal_coeffs, normal_states0, n_lanes, t_end, dt, tape_r
     copied = [cuda.event(), cuda.event()]
     blocks = (n_lanes + THREADS_PER_BLOCK - 1) // THREADS_PER_BLOCK
     b = 0
-    _fill_tapes(normal_coeffs, carries, works, tapes[b], rows[b], status, t_end, dt, *cycles)
+    periodic_tape.fill_blocks(normal_coeffs, carries, works, tapes[b], rows[b], status, t_end, dt,
+                              *cycles)  # fmt: skip
     while np.all(status <= 1):
         d_tapes[b].copy_to_device(tapes[b], stream=stream)
         d_rows[b].copy_to_device(rows[b], stream=stream)
@@ -309,8 +288,8 @@ def run_blocks(kernel, normal_coeffs, normal_states0, n_lanes, t_end, dt, tape_r
             break
         b = 1 - b
         copied[b].synchronize()  # the host buffer's last copy (two blocks ago) is done
-        _fill_tapes(normal_coeffs, carries, works, tapes[b], rows[b], status, t_end, dt,
-                    *cycles)  # fmt: skip
+        periodic_tape.fill_blocks(normal_coeffs, carries, works, tapes[b], rows[b], status,
+                                  t_end, dt, *cycles)  # fmt: skip
     stream.synchronize()  # the blocks' copies are done: the buffers may serve another run
     _give_back_pinned(shape, (tapes, rows))
     return np.where(status > 1, status, OK)
@@ -400,11 +379,9 @@ def run_shared_cuda(normal_coeffs, normal_states0, group_of_lane, forces, mu_sta
         n0 = normal_force(0.0, y0, ydot0, as_tuple(normal_coeffs[g]))  # the tuple form
         start_modes(lanes, starts[g], starts[g + 1], n0)
     lane_group = np.repeat(np.arange(n_groups), np.diff(starts))
-    if tape_rows is None:
-        tape_rows = max(16, min(TAPE_ROWS, TAPE_BLOCK_BYTES // (n_groups * nt.ROW * 8)))
     # Blocks of whole spans: the lanes then take the CPU kernel's spans of a tape's rows
     # (every SPAN_ROWS from its start, nt.TAPE_ROWS a multiple), none across two blocks.
-    tape_rows = max(SPAN_ROWS, int(tape_rows) // SPAN_ROWS * SPAN_ROWS)
+    tape_rows = max(SPAN_ROWS, block_rows(n_groups, tape_rows) // SPAN_ROWS * SPAN_ROWS)
     cycles = periodic_tape.cycles(normal_coeffs, normal_states0, periods, float(t_end), float(dt))
     cycle_shape = cycles[2][:, :3].astype(np.int64)  # period rows, tail rows, repeats
     cycle_rows = cycles[0] if cycles[0].shape[0] > 0 else np.zeros((1, nt.ROW))  # none: 1 row
