@@ -32,6 +32,7 @@ import threading
 
 import numpy as np
 
+from microslip import _jit_cache  # noqa: F401  (registers the cache before numba's CUDA jit)
 from microslip.integrators import normal_tape as nt
 from microslip.integrators import periodic_tape
 from microslip.integrators.kernel import as_tuple
