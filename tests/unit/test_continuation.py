@@ -7,7 +7,7 @@ import math
 import numpy as np
 import pytest
 
-from microslip.analysis.continuation import ContinuationError, continue_branch
+from microslip.analysis.continuation import ContinuationError, continue_branch, correct_at
 
 
 def _cubic(u, lam):
@@ -68,3 +68,39 @@ def test_corrector_failure_is_a_clear_error():
 
     with pytest.raises(ContinuationError, match="corrector did not converge"):
         continue_branch(broken, np.array([0.0]), 0.0, 1.0, step=0.1)
+
+
+def test_newton_stops_on_its_rate_of_convergence():
+    # Quadratic convergence: the error left after the second update is estimated from the
+    # rate and passes, so a point costs about two residuals, not three (the test
+    # |Δx| <= tol alone needed a third), and the points are as accurate as before.
+    calls = []
+
+    def counted(u, lam):
+        calls.append(lam)
+        return _cubic(u, lam)
+
+    branch = continue_branch(counted, np.array([-1.3]), -1.0, 1.0, step=0.01, max_step=0.02)
+    u = np.array([v[0] for v in branch.u])
+    assert branch.complete and len(branch.folds) == 2
+    assert np.max(np.abs(u**3 - u - np.array(branch.lam))) <= 1e-12
+    per_point = len(calls) / len(branch.lam)
+    assert per_point <= 2.2, per_point  # 2.05 here; 2.99 with the test |Δx| <= tol
+
+
+def test_a_slowly_converging_corrector_is_not_stopped_early():
+    # A Jacobian twice too large halves each Newton update: linear convergence at rate
+    # 1/2, where the error left after an update is as large as the update itself. The
+    # corrector must go on until that error, not only the update's rate-scaled size,
+    # is within the tolerance.
+    root = 1.324717957244746  # of u³ - u = 1
+    tol = 1e-11
+
+    def doubled(u, lam):
+        f, jac, f_lam = _cubic(u, lam)
+        return f, 2.0 * jac, f_lam
+
+    for start in (1.2, 1.25, 1.3, 1.4, 1.5, 2.0):
+        u = correct_at(doubled, np.array([start]), 1.0, tol=tol, max_iter=200)
+        assert u is not None
+        assert abs(u[0] - root) <= 1.2 * tol * root, (start, u[0] - root)

@@ -9,9 +9,11 @@ corrector on the bordered system
 (Keller's pseudo-arclength; Seydel, *Practical Bifurcation and Stability Analysis*), so
 it passes through folds where ∂F/∂u is singular. The new tangent solves the same bordered
 matrix with right-hand side (0, 1), which keeps its orientation. A fold is where the
-λ-component of the tangent changes sign. The branch stops exactly at λ_end the first time
-it gets there: the step that passes λ_end is replaced by a Newton correction in u at
-λ = λ_end from the interpolated state. Work in scaled variables (u and λ of order one).
+λ-component of the tangent changes sign. Newton stops when the error left, estimated from
+its rate of convergence, is within the tolerance (:func:`_converged`). The branch stops
+exactly at λ_end the first time it gets there: the step that passes λ_end is replaced by
+a Newton correction in u at λ = λ_end from the interpolated state. Work in scaled
+variables (u and λ of order one).
 """
 
 from __future__ import annotations
@@ -52,8 +54,29 @@ class Branch:
     complete: bool = False
 
 
-def _converged(step: np.ndarray, x: np.ndarray, tol: float) -> bool:
-    return bool(np.max(np.abs(step)) <= tol * max(1.0, np.max(np.abs(x))))
+def _update_ratio(step: np.ndarray, x: np.ndarray, tol: float) -> float:
+    """Size of a Newton update over its tolerance, tol * max(1, |x|) (max norms)."""
+    return float(np.max(np.abs(step))) / (tol * max(1.0, float(np.max(np.abs(x)))))
+
+
+def _converged(ratio: float, previous: float | None) -> bool:
+    """Whether the Newton iterate just updated (its update's :func:`_update_ratio`
+    ``ratio``; the one before, ``previous``, None at the first) is within the tolerance
+    of the solution.
+
+    Either the update itself is within it, or the error left is: with the updates
+    shrinking at least geometrically at the rate r = ratio/previous, it is below the
+    tail of the series, r/(1 - r) times the last update (the test of scipy's Radau
+    corrector). Under Newton's quadratic convergence the tail passes one iteration
+    before the update does, and each iteration costs a residual: a period of the normal
+    flow for a forced response.
+    """
+    if ratio <= 1.0:
+        return True
+    if previous is None or previous <= 0.0:
+        return False
+    rate = ratio / previous
+    return rate < 1.0 and rate / (1.0 - rate) * ratio <= 1.0
 
 
 def correct_at(
@@ -61,6 +84,7 @@ def correct_at(
 ) -> np.ndarray | None:
     """Newton in u at fixed λ from ``u``; the solution, or None without convergence."""
     u = np.array(u, dtype=float)
+    previous = None
     for _ in range(max_iter):
         f, jac, _ = residual(u, lam)
         try:
@@ -70,8 +94,10 @@ def correct_at(
         if not np.all(np.isfinite(step)):
             return None
         u = u + step
-        if _converged(step, u, tol):
+        ratio = _update_ratio(step, u, tol)
+        if _converged(ratio, previous):
             return u
+        previous = ratio
     return None
 
 
@@ -115,7 +141,8 @@ def continue_branch(
     max_points : int
         Cap on the number of points (the branch is then incomplete).
     tol : float
-        Relative size of the last Newton update.
+        Relative error of a corrected point: its last Newton update, or the error left
+        after it as estimated from the rate of convergence (:func:`_converged`).
     max_iter : int
         Corrector iterations before the step is halved.
 
@@ -144,6 +171,7 @@ def continue_branch(
         xn = predicted.copy()
         ok = False
         iterations = 0
+        previous = None
         for _ in range(max_iter):
             iterations += 1
             f, jac, f_lam = residual(xn[:n], xn[n])
@@ -159,9 +187,11 @@ def continue_branch(
             if not np.all(np.isfinite(dx)):
                 break
             xn = xn + dx
-            if _converged(dx, xn, tol):
+            ratio = _update_ratio(dx, xn, tol)
+            if _converged(ratio, previous):
                 ok = True
                 break
+            previous = ratio
         if not ok:
             ds *= 0.5
             if ds < min_step:
@@ -189,8 +219,13 @@ def continue_branch(
         branch.u.append(xn[:n].copy())
         branch.lam.append(float(xn[n]))
         x, tau = xn, new_tau
-        if iterations <= 2:
+        # The step follows the corrector's effort, counted as the updates the test
+        # |Δx| <= tol alone would have taken: one more than were made when the rate
+        # test stopped it (the points, and so the curve's resolution, are those of that
+        # test).
+        effort = iterations if ratio <= 1.0 else iterations + 1
+        if effort <= 2:
             ds = min(1.5 * ds, max_step)
-        elif iterations >= 5:
+        elif effort >= 5:
             ds *= 0.7
     return branch
