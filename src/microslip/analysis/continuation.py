@@ -10,7 +10,7 @@ corrector on the bordered system
 it passes through folds where ∂F/∂u is singular. The new tangent solves the same bordered
 matrix with right-hand side (0, 1), which keeps its orientation. A fold is where the
 λ-component of the tangent changes sign. Newton stops when the error left, estimated from
-its rate of convergence, is within the tolerance (:func:`_converged`). The branch stops
+its rate of convergence, is within the tolerance (:func:`newton_converged`). The branch stops
 exactly at λ_end the first time it gets there: the step that passes λ_end is replaced by
 a Newton correction in u at λ = λ_end from the interpolated state. Work in scaled
 variables (u and λ of order one).
@@ -23,7 +23,14 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-__all__ = ["Branch", "ContinuationError", "continue_branch", "correct_at"]
+__all__ = [
+    "Branch",
+    "ContinuationError",
+    "continue_branch",
+    "correct_at",
+    "newton_converged",
+    "update_ratio",
+]
 
 Residual = Callable[[np.ndarray, float], tuple[np.ndarray, np.ndarray, np.ndarray]]
 
@@ -54,13 +61,13 @@ class Branch:
     complete: bool = False
 
 
-def _update_ratio(step: np.ndarray, x: np.ndarray, tol: float) -> float:
+def update_ratio(step: np.ndarray, x: np.ndarray, tol: float) -> float:
     """Size of a Newton update over its tolerance, tol * max(1, |x|) (max norms)."""
     return float(np.max(np.abs(step))) / (tol * max(1.0, float(np.max(np.abs(x)))))
 
 
-def _converged(ratio: float, previous: float | None) -> bool:
-    """Whether the Newton iterate just updated (its update's :func:`_update_ratio`
+def newton_converged(ratio: float, previous: float | None) -> bool:
+    """Whether the Newton iterate just updated (its update's :func:`update_ratio`
     ``ratio``; the one before, ``previous``, None at the first) is within the tolerance
     of the solution.
 
@@ -94,8 +101,8 @@ def correct_at(
         if not np.all(np.isfinite(step)):
             return None
         u = u + step
-        ratio = _update_ratio(step, u, tol)
-        if _converged(ratio, previous):
+        ratio = update_ratio(step, u, tol)
+        if newton_converged(ratio, previous):
             return u
         previous = ratio
     return None
@@ -142,7 +149,7 @@ def continue_branch(
         Cap on the number of points (the branch is then incomplete).
     tol : float
         Relative error of a corrected point: its last Newton update, or the error left
-        after it as estimated from the rate of convergence (:func:`_converged`).
+        after it as estimated from the rate of convergence (:func:`newton_converged`).
     max_iter : int
         Corrector iterations before the step is halved.
 
@@ -187,8 +194,8 @@ def continue_branch(
             if not np.all(np.isfinite(dx)):
                 break
             xn = xn + dx
-            ratio = _update_ratio(dx, xn, tol)
-            if _converged(ratio, previous):
+            ratio = update_ratio(dx, xn, tol)
+            if newton_converged(ratio, previous):
                 ok = True
                 break
             previous = ratio
