@@ -10,7 +10,7 @@ corrector on the bordered system
 it passes through folds where ∂F/∂u is singular. The new tangent solves the same bordered
 matrix with right-hand side (0, 1), which keeps its orientation. A fold is where the
 λ-component of the tangent changes sign. Newton stops when the error left, estimated from
-its rate of convergence, is within the tolerance (:func:`newton_converged`). The branch stops
+its rate of convergence, is within the tolerance (:class:`NewtonStop`). The branch stops
 exactly at λ_end the first time it gets there: the step that passes λ_end is replaced by
 a Newton correction in u at λ = λ_end from the interpolated state. Work in scaled
 variables (u and λ of order one).
@@ -23,14 +23,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-__all__ = [
-    "Branch",
-    "ContinuationError",
-    "continue_branch",
-    "correct_at",
-    "newton_converged",
-    "update_ratio",
-]
+__all__ = ["Branch", "ContinuationError", "NewtonStop", "continue_branch", "correct_at"]
 
 Residual = Callable[[np.ndarray, float], tuple[np.ndarray, np.ndarray, np.ndarray]]
 
@@ -61,29 +54,35 @@ class Branch:
     complete: bool = False
 
 
-def update_ratio(step: np.ndarray, x: np.ndarray, tol: float) -> float:
-    """Size of a Newton update over its tolerance, tol * max(1, |x|) (max norms)."""
-    return float(np.max(np.abs(step))) / (tol * max(1.0, float(np.max(np.abs(x)))))
+class NewtonStop:
+    """The stopping test of one Newton iteration, at relative tolerance ``tol``: call
+    :meth:`converged` after each update.
 
-
-def newton_converged(ratio: float, previous: float | None) -> bool:
-    """Whether the Newton iterate just updated (its update's :func:`update_ratio`
-    ``ratio``; the one before, ``previous``, None at the first) is within the tolerance
-    of the solution.
-
-    Either the update itself is within it, or the error left is: with the updates
-    shrinking at least geometrically at the rate r = ratio/previous, it is below the
-    tail of the series, r/(1 - r) times the last update (the test of scipy's Radau
-    corrector). Under Newton's quadratic convergence the tail passes one iteration
-    before the update does, and each iteration costs a residual: a period of the normal
-    flow for a forced response.
+    An iterate is accepted when its update is within tol * max(1, |x|) (max norms), or
+    when the error left is: with the updates shrinking at least geometrically at the rate
+    r of the last two, it is below the tail of the series, r/(1 - r) times the last
+    update (the test of scipy's Radau corrector). Under Newton's quadratic convergence
+    the tail passes one iteration before the update does, and each iteration costs a
+    residual: a period of the normal flow for a forced response.
     """
-    if ratio <= 1.0:
-        return True
-    if previous is None or previous <= 0.0:
-        return False
-    rate = ratio / previous
-    return rate < 1.0 and rate / (1.0 - rate) * ratio <= 1.0
+
+    def __init__(self, tol: float) -> None:
+        self.tol = tol
+        # The last update over its tolerance (None before the first): > 1 at acceptance
+        # when the tail, not the update itself, passed.
+        self.ratio: float | None = None
+
+    def converged(self, step: np.ndarray, x: np.ndarray) -> bool:
+        """Whether ``x``, just updated by ``step``, is within the tolerance."""
+        previous = self.ratio
+        bound = self.tol * max(1.0, float(np.max(np.abs(x))))
+        self.ratio = float(np.max(np.abs(step))) / bound
+        if self.ratio <= 1.0:
+            return True
+        if previous is None or previous <= 0.0:
+            return False
+        rate = self.ratio / previous
+        return rate < 1.0 and rate / (1.0 - rate) * self.ratio <= 1.0
 
 
 def correct_at(
@@ -91,7 +90,7 @@ def correct_at(
 ) -> np.ndarray | None:
     """Newton in u at fixed λ from ``u``; the solution, or None without convergence."""
     u = np.array(u, dtype=float)
-    previous = None
+    stop = NewtonStop(tol)
     for _ in range(max_iter):
         f, jac, _ = residual(u, lam)
         try:
@@ -101,10 +100,8 @@ def correct_at(
         if not np.all(np.isfinite(step)):
             return None
         u = u + step
-        ratio = update_ratio(step, u, tol)
-        if newton_converged(ratio, previous):
+        if stop.converged(step, u):
             return u
-        previous = ratio
     return None
 
 
@@ -149,7 +146,7 @@ def continue_branch(
         Cap on the number of points (the branch is then incomplete).
     tol : float
         Relative error of a corrected point: its last Newton update, or the error left
-        after it as estimated from the rate of convergence (:func:`newton_converged`).
+        after it as estimated from the rate of convergence (:class:`NewtonStop`).
     max_iter : int
         Corrector iterations before the step is halved.
 
@@ -178,7 +175,7 @@ def continue_branch(
         xn = predicted.copy()
         ok = False
         iterations = 0
-        previous = None
+        stop = NewtonStop(tol)
         for _ in range(max_iter):
             iterations += 1
             f, jac, f_lam = residual(xn[:n], xn[n])
@@ -194,11 +191,9 @@ def continue_branch(
             if not np.all(np.isfinite(dx)):
                 break
             xn = xn + dx
-            ratio = update_ratio(dx, xn, tol)
-            if newton_converged(ratio, previous):
+            if stop.converged(dx, xn):
                 ok = True
                 break
-            previous = ratio
         if not ok:
             ds *= 0.5
             if ds < min_step:
@@ -230,7 +225,7 @@ def continue_branch(
         # |Δx| <= tol alone would have taken: one more than were made when the rate
         # test stopped it (the points, and so the curve's resolution, are those of that
         # test).
-        effort = iterations if ratio <= 1.0 else iterations + 1
+        effort = iterations if stop.ratio <= 1.0 else iterations + 1
         if effort <= 2:
             ds = min(1.5 * ds, max_step)
         elif effort >= 5:

@@ -23,7 +23,7 @@ import numpy as np
 from numba import njit
 
 from microslip import _jit_cache  # noqa: F401  (registers the cache before any @njit)
-from microslip.analysis.continuation import newton_converged, update_ratio
+from microslip.analysis.continuation import NewtonStop
 from microslip.analysis.normal_flow import (
     S_FLIGHT,
     S_NMAX,
@@ -60,7 +60,7 @@ MIN_STEPS = 64
 # state_scale units) off the orbit, and the coarser steps move it by 4e-12 to 6e-11.
 TRANSIENT_STEP_DIVISOR = 4
 STABILITY_MARGIN = 1e-9  # stable: every |λ| < 1 + margin
-NEWTON_TOL = 1e-13  # relative error of the scaled shooting state (continuation.newton_converged)
+NEWTON_TOL = 1e-13  # relative error of the scaled shooting state (continuation.NewtonStop)
 FORCED = (HarmonicForce, BaseMotion, PrescribedPenetration)
 FREE_VIBRATION_INSTEAD = (
     "the free vibration has no forcing period: use microslip.free_period or "
@@ -194,13 +194,13 @@ def shoot(c, period, n_steps, guess, scale, max_iter=30):
 
     Works in the scaled state s/scale; stops when the last update, or the error left
     after it as estimated from the rate of convergence
-    (:func:`~microslip.analysis.continuation.newton_converged`), is below NEWTON_TOL
+    (:class:`~microslip.analysis.continuation.NewtonStop`), is below NEWTON_TOL
     relative.
     Raises :class:`ShootingError` without convergence.
     """
     s = np.array(guess, dtype=float)
     eye = np.eye(2)
-    previous = None
+    stop = NewtonStop(NEWTON_TOL)
     for _ in range(max_iter):
         end, phi, _, _, _ = propagate(c, s[0], s[1], 0.0, period, n_steps, False, True)
         residual = (end - s) / scale
@@ -212,10 +212,8 @@ def shoot(c, period, n_steps, guess, scale, max_iter=30):
         if not np.all(np.isfinite(step)):
             break
         s = s + step * scale
-        ratio = update_ratio(step, s / scale, NEWTON_TOL)
-        if newton_converged(ratio, previous):
+        if stop.converged(step, s / scale):
             return s
-        previous = ratio
     raise ShootingError("Newton shooting did not converge to a periodic orbit")
 
 
