@@ -47,7 +47,10 @@ _NUDGE = 1e-9  # one-sided values at a switch: this fraction of the piece inside
 CLOSED_FORM_PIECES = 32  # uniform pieces per period of a closed-form N(t)
 
 
-@njit(cache=True)
+# Inlined (with orbit_state) into its callers: as a call, each evaluation took and
+# released a reference to each of the five table arrays (atomic NRT operations, ~100 ns,
+# several times the interpolation), and the walk of each drive speed evaluates it often.
+@njit(cache=True, inline="always")
 def normal_at(t, src):
     """(N [N], Ṅ [N/s], K [N/m]) at time t [s]; all 0 out of contact."""
     kind, tn, yn, vn, a0, a1, c = src
