@@ -37,6 +37,7 @@ import numpy as np
 from numba import njit
 
 from microslip import _jit_cache  # noqa: F401  (registers the cache before any @njit)
+from microslip._refcount import NO_REFCOUNT
 from microslip.analysis.normal_pieces import (
     CONTACT,
     INT_K,
@@ -101,7 +102,7 @@ def _switching(which, x, t0, f0, law, src):
     return _slip_function(n, rate, k_el, law)
 
 
-@njit(cache=True)
+@njit(cache=True, **NO_REFCOUNT)
 def _root(which, lo, hi, f_lo, f_hi, t0, f0, law, src, xtol):
     """Brent's method: a root of :func:`_switching` in [lo, hi] (f_lo, f_hi of opposite
     signs: the values at the ends, or a stand-in of the right sign)."""
@@ -142,7 +143,7 @@ def _root(which, lo, hi, f_lo, f_hi, t0, f0, law, src, xtol):
     return b
 
 
-@njit(cache=True)
+@njit(cache=True, **NO_REFCOUNT)
 def _touchdown(p, pieces, law, tol_f):
     """(phase, f) at the start of contact piece p after a flight: stuck with a relaxed
     spring, unless the limit μ_s N cannot keep ahead of the spring (sliding then)."""
@@ -155,7 +156,7 @@ def _touchdown(p, pieces, law, tol_f):
     return SLIP, mu_k * pieces[p, N_A]
 
 
-@njit(cache=True)
+@njit(cache=True, **NO_REFCOUNT)
 def _period(phase, f, law, pieces, src, tol_f, tol_s, xtol):
     """One period from (phase, f) at its start: (phase and f at its end, ∫f dt [N s],
     stick time [s], ok, the smallest stick margin μ_s N - f [N] if the point stuck all

@@ -35,6 +35,7 @@ import numpy as np
 from numba import njit
 
 from microslip import _jit_cache  # noqa: F401  (registers the cache before any @njit)
+from microslip._refcount import NO_REFCOUNT
 from microslip.integrators import threads
 from microslip.integrators.dop853_tableau import N_STAGES
 from microslip.integrators.dop853_tableau import A as _A
@@ -114,7 +115,7 @@ def _rhs(t, s, c, contact, out, dim):
     out[5] = -(k_y * s[3] + k_v * s[5]) / m
 
 
-@njit(cache=True)
+@njit(cache=True, **NO_REFCOUNT)
 def _step(t, s, h, c, contact, k, tmp, out, dim):
     """One 8th-order Dormand–Prince step of length h from (t, s) into ``out``, of the
     first ``dim`` components (_STATE: y, ẏ only; _DIM: with Φ). The components do not
@@ -133,7 +134,7 @@ def _step(t, s, h, c, contact, k, tmp, out, dim):
         out[d] = s[d] + h * acc
 
 
-@njit(cache=True)
+@njit(cache=True, **NO_REFCOUNT)
 def _raw_rate(t, y, yd, c, contact):
     """dN_raw/dt [N/s] along the motion in the given mode (unclipped)."""
     delta, delta_rate, zddot = gap(t, y, yd, c)
@@ -142,7 +143,7 @@ def _raw_rate(t, y, yd, c, contact):
     return d_delta * delta_rate + d_rate * (_accel(t, y, yd, c, contact) - zddot)
 
 
-@njit(cache=True)
+@njit(cache=True, **NO_REFCOUNT)
 def _value(which, t, s, c, contact):
     y = s[0]
     yd = s[1]
@@ -165,7 +166,7 @@ def _value(which, t, s, c, contact):
     return delta_rate / y0
 
 
-@njit(cache=True)
+@njit(cache=True, **NO_REFCOUNT)
 def _locate(which, s0, t, h, c, contact, lo, hi, f_lo, f_hi, k, tmp, out):
     """θ in (lo, hi] where ``which`` changes sign, by re-stepping from s0 (Illinois).
 
@@ -185,7 +186,7 @@ def _locate(which, s0, t, h, c, contact, lo, hi, f_lo, f_hi, k, tmp, out):
     return hi
 
 
-@njit(cache=True)
+@njit(cache=True, **NO_REFCOUNT)
 def _first_switch(s0, s1, t, h, c, contact, k, tmp, out):
     """θ of the first contact switch inside the step (2.0 if none)."""
     f0 = _value(W_CONTACT, t, s0, c, contact)
@@ -210,7 +211,7 @@ def _first_switch(s0, s1, t, h, c, contact, k, tmp, out):
     return 2.0
 
 
-@njit(cache=True)
+@njit(cache=True, **NO_REFCOUNT)
 def _note_extrema(s0, s1, t, h, c, contact, summary, k, tmp, out):
     """Update y and N extremes with the values at the interval end and any interior ones."""
     for s in (s0, s1):

@@ -22,6 +22,7 @@ import numpy as np
 from numba import njit
 
 from microslip import _jit_cache  # noqa: F401  (registers the cache before any @njit)
+from microslip._refcount import NO_REFCOUNT
 from microslip.analysis.periodic import orbit_state
 from microslip.model.contact import elastic_stiffness
 from microslip.model.normal import gap, normal_force, normal_force_rate
@@ -63,7 +64,7 @@ def normal_at(t, src):
     return n, normal_force_rate(t, y, yd, c), elastic_stiffness(gap(t, y, yd, c)[0], c)
 
 
-@njit(cache=True)
+@njit(cache=True, **NO_REFCOUNT)
 def piece_integrals(lo, hi, src):
     """(∫N [N s], ∫K [N s/m], ∫(hi - s) K(s) ds [N s²/m]) over [lo, hi] inside one piece
     (Gauss–Legendre)."""
@@ -190,7 +191,7 @@ def _rate(t, ratio, src):
     return rate / k if ratio else rate
 
 
-@njit(cache=True)
+@njit(cache=True, **NO_REFCOUNT)
 def _refine(t, ratio, pieces, value, src):
     """Golden-section refinement of a sampled maximum of :func:`_rate` near t."""
     i = min(max(np.searchsorted(pieces[:, A], t, side="right") - 1, 0), pieces.shape[0] - 1)
