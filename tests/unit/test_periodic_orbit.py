@@ -59,9 +59,9 @@ def test_orbit_contract():
 
 
 def test_transients_side_by_side_give_the_same_orbits():
-    """transient_states integrates the first transients in parallel batches, one per
-    step count (two here: two frequencies); each orbit from it is the orbit alone, bit
-    for bit."""
+    """transient_states integrates the first transients side by side, each row in its
+    own step count (two here: two frequencies); each orbit from it is the orbit alone,
+    bit for bit."""
     models = [
         FORCED,
         FORCED.replace(**{"excitation.amplitude": 1.0}),
@@ -202,3 +202,35 @@ def test_monodromy_is_the_derivative_of_the_flow_map(model):
         rtol=0,
         atol=1e-7,
     )
+
+
+def test_each_point_is_integrated_in_the_steps_of_its_own_frequency(monkeypatch):
+    """A frequency branch integrates each point's period in steps_per_period at that
+    point's frequency (96 per natural period, at least 64), the residual's two flows
+    (at λ and λ + h) in the same count: not the count of the branch's lowest frequency
+    everywhere (at 2 f0, 6x the work on a 0.3 f0 start), and not a count that differs
+    between the two flows of a difference quotient."""
+    from microslip.analysis import forced_response as module
+    from microslip.analysis.periodic import steps_per_period
+
+    calls = []
+    original = module.propagate_each
+
+    def spy(cs, starts, durations, n_steps, *rest):
+        calls.append((durations.copy(), np.array(n_steps)))
+        return original(cs, starts, durations, n_steps, *rest)
+
+    monkeypatch.setattr(module, "propagate_each", spy)
+    result = forced_response(FORCED, frequencies=(0.3 * F0, 0.6 * F0), max_step=0.2)
+    assert result.attrs["complete"] == 1
+    residuals, record = calls[:-1], calls[-1]
+    seen = set()
+    rows = [(d[0], n[0]) for d, n in residuals] + list(zip(*record, strict=True))
+    for period, n in rows:  # a residual's first flow is at λ, its second at λ + h
+        assert n == steps_per_period(FORCED, 1.0 / period)
+        seen.add(int(n))
+    for _durations, n_steps in residuals:
+        assert n_steps[0] == n_steps[1]
+    # the branch's two ends: 320 steps at 0.3 f0, 160 at 0.6 f0
+    assert max(seen) == steps_per_period(FORCED, 0.3 * F0) == 320
+    assert min(seen) <= steps_per_period(FORCED, 0.59 * F0) < 170

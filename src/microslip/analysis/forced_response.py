@@ -151,12 +151,19 @@ def forced_response(
     if kind == "frequency":
         first = model.replace(**{"excitation.frequency": start})
         lam_ref = f0
-        n_steps = steps_per_period(model, 0.8 * min(start, end))
     else:
         first = model.replace(**{"excitation.amplitude": start})
         lam_ref = a_ref
-        n_steps = steps_per_period(model)
     base = first.pack(0.0)
+
+    def steps(lam: float) -> int:
+        """Fixed steps over the period at λ: 96 per natural period, at least 64
+        (:func:`~microslip.analysis.periodic.steps_per_period`), for the frequency of
+        that point, not the lowest of the branch (a point at 2 f0 took the 400 steps a
+        0.3 f0 start needs). Its flow and the one at λ + h for ∂F/∂λ take the same."""
+        if kind == "amplitude":
+            return steps_per_period(first)
+        return steps_per_period(model, max(abs(lam) * lam_ref, f0 / FREQUENCY_FACTOR))
 
     def coefficients(lam: float) -> tuple[np.ndarray, float]:
         c = base.copy()
@@ -166,9 +173,10 @@ def forced_response(
             c[EXCITATION_AMPLITUDE] = lam * lam_ref
         return c, 2.0 * math.pi / c[EXCITATION_OMEGA]
 
-    def flows(lams: list[float], states: np.ndarray, record: bool):
-        """(ends, Φs, summaries) of one period from states[i] [m, m/s] at lams[i], the
-        rows integrated side by side (:func:`normal_flow.propagate_each`)."""
+    def flows(lams: list[float], states: np.ndarray, record: bool, n_steps: np.ndarray):
+        """(ends, Φs, summaries) of one period from states[i] [m, m/s] at lams[i] in
+        n_steps[i] steps, the rows integrated side by side
+        (:func:`normal_flow.propagate_each`)."""
         cs = np.empty((len(lams), base.size))
         periods = np.empty(len(lams))
         for i, lam in enumerate(lams):
@@ -183,7 +191,8 @@ def forced_response(
         # ∂F/∂λ by a forward difference: its flow runs beside the flow at λ (two cores).
         h = _DIFF_STEP * max(abs(lam), 1e-3)
         s = u * scale
-        ends, phis, _ = flows([lam, lam + h], np.array([s, s]), False)
+        n_steps = np.full(2, steps(lam), dtype=np.int64)
+        ends, phis, _ = flows([lam, lam + h], np.array([s, s]), False, n_steps)
         f = ends[0] / scale - u
         jac = phis[0] * scale[np.newaxis, :] / scale[:, np.newaxis] - np.eye(2)
         return f, jac, (ends[1] - ends[0]) / (scale * h)
@@ -204,7 +213,8 @@ def forced_response(
             RuntimeWarning,
             stacklevel=2,
         )
-    _ends, phis, summaries = flows(branch.lam, np.array(branch.u) * scale, True)
+    n_steps = np.array([steps(lam) for lam in branch.lam], dtype=np.int64)
+    _ends, phis, summaries = flows(branch.lam, np.array(branch.u) * scale, True, n_steps)
     rows = [_point(phi, summary) for phi, summary in zip(phis, summaries, strict=True)]
     table = np.array(rows)
     lam = np.array(branch.lam) * lam_ref

@@ -341,8 +341,9 @@ def propagate(coefficients, y_start, yd_start, t0, duration, n_steps, record, va
 
 def propagate_each(cs, starts, durations, n_steps, record, ends, phis, summaries, variational):
     """:func:`propagate` from t0 = 0 for each row i, in parallel: coefficients cs[i],
-    state starts[i] = (y [m], ẏ [m/s]), durations[i] [s]; fills ends[i] (2,), phis[i]
-    (2, 2; NaN unless ``variational``, a NumPy bool) and summaries[i] (S_SIZE,). Each row
+    state starts[i] = (y [m], ẏ [m/s]), durations[i] [s] in n_steps[i] (int64) steps;
+    fills ends[i] (2,), phis[i] (2, 2; NaN unless ``variational``, a NumPy bool) and
+    summaries[i] (S_SIZE,). Each row
     is integrated on its own, so its bits do not depend on the other rows or the thread
     count (:func:`~microslip.integrators.threads.run_ranges`).
     """
@@ -358,7 +359,7 @@ def _propagate_rows(lo, hi, cs, starts, durations, n_steps, record, ends, phis, 
     """Rows [lo, hi) of :func:`propagate_each`."""
     for i in range(lo, hi):
         end, phi, _nodes, _accel, summary = propagate(
-            cs[i], starts[i, 0], starts[i, 1], 0.0, durations[i], n_steps, record, variational
+            cs[i], starts[i, 0], starts[i, 1], 0.0, durations[i], n_steps[i], record, variational
         )
         ends[i, :] = end
         phis[i, :, :] = phi

@@ -398,19 +398,15 @@ def transient_states(models: list[Model], transient_periods: int = TRANSIENT_PER
     of :func:`periodic_orbit`, which takes a row as ``transient_state``. The models run
     side by side over the cores (:func:`normal_flow.propagate_each`), each on its own:
     the same bits as one at a time."""
-    out = np.empty((len(models), 2))
-    steps = [transient_steps(steps_per_period(model)) for model in models]
-    for n_steps in dict.fromkeys(steps):  # one parallel batch per step count
-        rows = [i for i, k in enumerate(steps) if k == n_steps]
-        cs = np.array([models[i].pack(0.0) for i in rows])
-        starts = np.array([[models[i].params.static_deflection, 0.0] for i in rows])
-        durations = np.array([transient_periods * models[i].excitation.period for i in rows])
-        ends = np.empty((len(rows), 2))
-        phis = np.empty((len(rows), 2, 2))
-        summaries = np.empty((len(rows), S_SIZE))
-        propagate_each(
-            cs, starts, durations, transient_periods * n_steps, False, ends, phis, summaries,
-            STATE_ONLY,
-        )  # fmt: skip
-        out[rows] = ends
-    return out
+    steps = np.array(
+        [transient_periods * transient_steps(steps_per_period(model)) for model in models],
+        dtype=np.int64,
+    )
+    cs = np.array([model.pack(0.0) for model in models])
+    starts = np.array([[model.params.static_deflection, 0.0] for model in models])
+    durations = np.array([transient_periods * model.excitation.period for model in models])
+    ends = np.empty((len(models), 2))
+    phis = np.empty((len(models), 2, 2))
+    summaries = np.empty((len(models), S_SIZE))
+    propagate_each(cs, starts, durations, steps, False, ends, phis, summaries, STATE_ONLY)
+    return ends
