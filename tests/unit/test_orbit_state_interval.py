@@ -11,7 +11,7 @@ pass a loose accuracy test; this one compares the index itself."""
 import numpy as np
 import pytest
 
-from microslip.analysis.periodic import _interval, orbit_state
+from microslip.analysis.orbit_table import _interval, orbit_state
 
 
 def _expected(t, nodes):

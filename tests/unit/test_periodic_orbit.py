@@ -10,9 +10,9 @@ import pytest
 
 import microslip as ms
 from microslip.analysis.forced_response import forced_response
+from microslip.analysis.orbit_table import orbit_state
 from microslip.analysis.periodic import (
     NotPeriodOneError,
-    orbit_state,
     periodic_orbit,
     transient_states,
 )

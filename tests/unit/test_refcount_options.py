@@ -13,7 +13,7 @@ from numba.core.errors import TypingError
 
 from microslip._refcount import NO_REFCOUNT
 from microslip.analysis import contact_point, normal_flow, normal_pieces
-from microslip.analysis.periodic import orbit_state
+from microslip.analysis.orbit_table import orbit_state
 
 HOT = [
     normal_flow._step, normal_flow._first_switch, normal_flow._locate, normal_flow._value,

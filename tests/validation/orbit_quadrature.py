@@ -15,7 +15,7 @@ _NODES, _WEIGHTS = np.polynomial.legendre.leggauss(8)
 
 def interval_states(orbit):
     """Gauss points (t [s], y [m], ẏ [m/s], weights [s]) over one period of ``orbit``."""
-    from microslip.analysis.periodic import orbit_state
+    from microslip.analysis.orbit_table import orbit_state
 
     tn = np.asarray(orbit.t, dtype=float)
     args = (tn, np.asarray(orbit.y), np.asarray(orbit.ydot))

@@ -12,7 +12,8 @@ import numpy as np
 import pytest
 
 import microslip as ms
-from microslip.analysis.periodic import orbit_state, periodic_orbit
+from microslip.analysis.orbit_table import orbit_state
+from microslip.analysis.periodic import periodic_orbit
 from microslip.model.normal import normal_force
 
 P = ms.Parameters()

@@ -23,7 +23,7 @@ Gauss–Legendre sums on the partial pieces. The normal motion is shared by all 
 
 ``src`` = (kind, t, y, ẏ, ÿ+, ÿ-, c): ``CLOSED_FORM`` (a prescribed penetration, N(t)
 from the coefficient vector c; the tables are unused) or ``TABLE`` (quintic Hermite
-nodes of a periodic orbit, :func:`microslip.analysis.periodic.orbit_state`). The
+nodes of a periodic orbit, :func:`microslip.analysis.orbit_table.orbit_state`). The
 stiffness evaluated is the elastic contact stiffness K(δ) = m2 S c_n δ^(m2-1); the walk
 uses ``law`` = (v, μ_s, μ_k, k, λ) with k_t = k (TangentialSpring, k > 0) or λ K(δ)
 (MindlinSpring, k = 0).

@@ -9,7 +9,7 @@ the contact stiffness, and the end values (one-sided at a switch).
 
 ``src`` = (kind, t, y, ẏ, ÿ+, ÿ-, c): ``CLOSED_FORM`` (a prescribed penetration, N(t)
 from the coefficients c; the tables are unused) or ``TABLE`` (quintic Hermite nodes of
-a periodic orbit, :func:`microslip.analysis.periodic.orbit_state`); c is the tuple the
+a periodic orbit, :func:`microslip.analysis.orbit_table.orbit_state`); c is the tuple the
 laws take (``model.coefficients.as_tuple``), built once with ``src``. The stiffness
 evaluated is the elastic contact stiffness K(δ) = m2 S c_n δ^(m2-1).
 """
@@ -23,7 +23,7 @@ from numba import njit
 
 from microslip import _jit_cache  # noqa: F401  (registers the cache before any @njit)
 from microslip._refcount import NO_REFCOUNT
-from microslip.analysis.periodic import orbit_state
+from microslip.analysis.orbit_table import orbit_state
 from microslip.model.contact import elastic_stiffness
 from microslip.model.normal import gap, normal_force, normal_force_rate
 

@@ -20,9 +20,7 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
-from numba import njit
 
-from microslip import _jit_cache  # noqa: F401  (registers the cache before any @njit)
 from microslip.analysis.continuation import NewtonStop
 from microslip.analysis.normal_flow import (
     S_FLIGHT,
@@ -44,7 +42,6 @@ from microslip.model.normal import normal_force, prescribed_gap
 __all__ = [
     "NotPeriodOneError",
     "PeriodicOrbit",
-    "orbit_state",
     "periodic_orbit",
     "shoot",
     "steps_per_period",
@@ -88,7 +85,8 @@ class PeriodicOrbit:
         Nodes [s], [m], [m/s] over [0, T]: every step end and every contact switch.
     accel_start, accel_end : ndarray
         ÿ [m/s^2] at t[k]+ and at t[k+1]- for interval k (one fewer than nodes), so that
-        quintic Hermite interpolation (:func:`orbit_state`) is exact to high order.
+        quintic Hermite interpolation
+        (:func:`~microslip.analysis.orbit_table.orbit_state`) is exact to high order.
     y0_state : ndarray
         (y [m], ẏ [m/s]) at t = 0.
     multipliers : ndarray
@@ -128,69 +126,6 @@ class PeriodicOrbit:
     def amplitude(self) -> float:
         """(y_max - y_min)/2 [m]."""
         return 0.5 * (self.y_max - self.y_min)
-
-
-_WALK = 4  # interval steps from the proportional guess before a binary search
-
-
-@njit(cache=True, inline="always")
-def _interval(t, t_nodes):
-    """The last k in [0, n - 2] with t_nodes[k] <= t (0 if none): numpy's
-    searchsorted(side="right") - 1, clipped. The tables are near-uniform (a fixed step
-    with a few switches inserted), so the proportional guess is within a step or two:
-    a short walk from it replaces the binary search, whose ~11 unpredictable branches
-    on a table of ~1000 nodes cost several times the interpolation itself."""
-    n = t_nodes.shape[0]
-    span = t_nodes[n - 1] - t_nodes[0]
-    guess = (t - t_nodes[0]) / span * (n - 1) if span > 0.0 else 0.0
-    k = int(min(max(guess, 0.0), n - 2.0)) if guess == guess else 0  # clipped before int
-    for _ in range(_WALK):
-        if k < n - 2 and t_nodes[k + 1] <= t:
-            k += 1
-        elif k > 0 and t_nodes[k] > t:
-            k -= 1
-        else:
-            return k
-    k = np.searchsorted(t_nodes, t, side="right") - 1
-    return min(max(k, 0), n - 2)
-
-
-@njit(cache=True, inline="always")
-def orbit_state(t, t_nodes, y, ydot, accel_start, accel_end):
-    """(y [m], ẏ [m/s]) at t in [t_nodes[0], t_nodes[-1]] by quintic Hermite interpolation
-    on the interval holding t (values, slopes and accelerations at both ends)."""
-    k = _interval(t, t_nodes)
-    n = t_nodes.shape[0]
-    while k < n - 2 and t_nodes[k + 1] <= t_nodes[k]:
-        k += 1  # a zero-length interval (switch on a grid point)
-    h = t_nodes[k + 1] - t_nodes[k]
-    if h <= 0.0:
-        return y[k], ydot[k]
-    u = (t - t_nodes[k]) / h
-    u2 = u * u
-    u3 = u2 * u
-    u4 = u3 * u
-    u5 = u4 * u
-    p0, p1 = y[k], y[k + 1]
-    v0, v1 = ydot[k] * h, ydot[k + 1] * h
-    a0, a1 = accel_start[k] * h * h, accel_end[k] * h * h
-    value = (
-        (1.0 - 10.0 * u3 + 15.0 * u4 - 6.0 * u5) * p0
-        + (u - 6.0 * u3 + 8.0 * u4 - 3.0 * u5) * v0
-        + 0.5 * (u2 - 3.0 * u3 + 3.0 * u4 - u5) * a0
-        + 0.5 * (u3 - 2.0 * u4 + u5) * a1
-        + (-4.0 * u3 + 7.0 * u4 - 3.0 * u5) * v1
-        + (10.0 * u3 - 15.0 * u4 + 6.0 * u5) * p1
-    )
-    slope = (
-        (-30.0 * u2 + 60.0 * u3 - 30.0 * u4) * p0
-        + (1.0 - 18.0 * u2 + 32.0 * u3 - 15.0 * u4) * v0
-        + 0.5 * (2.0 * u - 9.0 * u2 + 12.0 * u3 - 5.0 * u4) * a0
-        + 0.5 * (3.0 * u2 - 8.0 * u3 + 5.0 * u4) * a1
-        + (-12.0 * u2 + 28.0 * u3 - 15.0 * u4) * v1
-        + (30.0 * u2 - 60.0 * u3 + 30.0 * u4) * p1
-    )
-    return value, slope / h
 
 
 def steps_per_period(model: Model, frequency: float | None = None) -> int:
