@@ -18,7 +18,7 @@ P = ms.Parameters()
 
 def test_a_flight_inside_one_step_is_found():
     c = ms.Model(P).pack(0.0)
-    h = P.natural_period / 26.0  # a transient's step (periodic.transient_steps)
+    h = P.natural_period / 13.0  # a transient's step (periodic.transient_steps)
     v = 0.5 * P.g * h / 3.0  # flight 2v/g = h/3
     delta0 = 1e-3 * v * h
     coarse = propagate(c, delta0, -v, 0.0, h, 1, False, False)

@@ -52,10 +52,14 @@ TRANSIENT_PERIODS = 64  # excitation periods from rest before the shooting
 STEPS_PER_NATURAL_PERIOD = 96  # 8th-order steps per 1/f0: one-period error near round-off
 MIN_STEPS = 64
 # The transient before the shooting needs only to land near the orbit for Newton, not
-# round-off accuracy: it takes 1/4 of the orbit's steps. Measured (Viscous(0.05),
-# HarmonicForce(0.5-5 N, 1400 Hz)): after 64 periods the state is 1e-10 to 6e-6 (in
-# state_scale units) off the orbit, and the coarser steps move it by 4e-12 to 6e-11.
-TRANSIENT_STEP_DIVISOR = 4
+# round-off accuracy: it takes 1/8 of the orbit's steps (12 per natural period, |ω h| ~
+# 0.5, well inside the 8th-order method's stability region). Measured (Viscous(0.05),
+# HarmonicForce(0.5-5 N, 1400 Hz)): after 64 periods the state is 9e-11 to 6e-6 (in
+# state_scale units) off the orbit; against a transient in the orbit's own steps, 1/4
+# of them moves it by 4e-12 to 6e-11, 1/8 by 1e-9 to 2e-8 (1/12: up to 6e-7). The
+# transient is the largest part of a forced mu_eff map's normal side: 1/8 took it from
+# 2.5 to 1.6 ms per amplitude (one thread).
+TRANSIENT_STEP_DIVISOR = 8
 STABILITY_MARGIN = 1e-9  # stable: every |λ| < 1 + margin
 NEWTON_TOL = 1e-13  # relative error of the scaled shooting state (continuation.NewtonStop)
 FORCED = (HarmonicForce, BaseMotion, PrescribedPenetration)
