@@ -17,7 +17,8 @@ from microslip.analysis.orbit_table import orbit_state
 
 HOT = [
     normal_flow._step, normal_flow._first_switch, normal_flow._locate, normal_flow._value,
-    contact_point._period, contact_point._root, normal_pieces.piece_integrals,
+    contact_point._period, contact_point._root, contact_point._steady,
+    normal_pieces.piece_integrals, normal_pieces._fill_piece, normal_pieces._interval_switches,
 ]  # fmt: skip
 
 

@@ -246,9 +246,11 @@ def _period(phase, f, law, pieces, src, tol_f, tol_s, xtol):
     return phase, f, total, stick, True, low
 
 
-@njit(cache=True)
-def _steady(law, pieces, src, period, max_periods, tol_f, tol_s, out):
+@njit(cache=True, **NO_REFCOUNT)
+def _steady(law, pieces, src, period, max_periods, tol_f, tol_s, out, work):
     """Iterate the period map from a sliding start to its cycle; fills ``out`` (R_*).
+    ``work``: (5, max_periods + 1) scratch, the history of the periods walked (allocated
+    once per range of speeds by the caller: per speed it was a tenth of the walk).
 
     A period the point spends stuck throughout repeats with f raised by the same amount
     G, until its smallest margin is used up: the periods that surely stay stuck are
@@ -261,8 +263,7 @@ def _steady(law, pieces, src, period, max_periods, tol_f, tol_s, out):
         f = mu_k * pieces[0, N_A]
         slides = _stiffness(pieces[0, K_A], law) * v > mu_k * pieces[0, RATE_A]
         phase = SLIP if slides else STICK
-    phases, forces = np.empty(max_periods + 1), np.empty(max_periods + 1)
-    totals, sticks, lengths = np.empty(max_periods), np.empty(max_periods), np.empty(max_periods)
+    phases, forces, totals, sticks, lengths = work[0], work[1], work[2], work[3], work[4]
     phases[0], forces[0] = phase, f
     done = 0
     k = 0
@@ -322,6 +323,7 @@ def steady_friction(speeds, mu_s, mu_k, kconst, lam, pieces, src, period, max_pe
 def _steady_rows(lo, hi, speeds, mu_s, mu_k, kconst, lam, pieces, src, period, max_periods,
                  tol_f, tol_s, out):  # fmt: skip
     """Rows [lo, hi) of :func:`steady_friction`."""
+    work = np.empty((5, max_periods + 1))
     for i in range(lo, hi):
         law = (speeds[i], mu_s, mu_k, kconst, lam)
-        _steady(law, pieces, src, period, max_periods, tol_f, tol_s, out[i])
+        _steady(law, pieces, src, period, max_periods, tol_f, tol_s, out[i], work)

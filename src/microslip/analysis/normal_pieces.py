@@ -25,7 +25,7 @@ from microslip import _jit_cache  # noqa: F401  (registers the cache before any 
 from microslip._refcount import NO_REFCOUNT
 from microslip.analysis.orbit_table import orbit_state
 from microslip.model.contact import elastic_stiffness
-from microslip.model.normal import gap, normal_force, normal_force_rate
+from microslip.model.normal import gap, normal_force, raw_normal_force_rate
 
 __all__ = [
     "CLOSED_FORM", "CLOSED_FORM_PIECES", "GAUSS_NODES", "GAUSS_WEIGHTS", "TABLE",
@@ -61,7 +61,8 @@ def normal_at(t, src):
     n = normal_force(t, y, yd, c)
     if n <= 0.0:
         return 0.0, 0.0, 0.0
-    return n, normal_force_rate(t, y, yd, c), elastic_stiffness(gap(t, y, yd, c)[0], c)
+    # In contact (n > 0) the clipped rate is the raw one: given n, it is not recomputed.
+    return n, raw_normal_force_rate(t, y, yd, n, c), elastic_stiffness(gap(t, y, yd, c)[0], c)
 
 
 @njit(cache=True, **NO_REFCOUNT)
@@ -85,34 +86,49 @@ def _contact(t, src):
     return normal_at(t, src)[0] > 0.0
 
 
+@njit(cache=True, **NO_REFCOUNT)
+def _interval_switches(a, b, src, found):
+    """The contact switches inside the base interval [a, b], each bisected to round-off
+    between the Gauss nodes where the contact state changes, into ``found`` (room for
+    GAUSS_NODES.size + 1); returns their count. Allocates nothing, so that it runs
+    without reference counting (docs/design.md): the inlined N(t) reads the source's
+    tables, which a counted function takes and releases at each evaluation."""
+    count = 0
+    samples = GAUSS_NODES.shape[0]
+    lo = a + _NUDGE * (b - a)
+    state = _contact(lo, src)
+    for j in range(samples + 1):
+        s = a + 0.5 * (b - a) * (GAUSS_NODES[j] + 1.0) if j < samples else b - _NUDGE * (b - a)
+        if _contact(s, src) != state:
+            hi = s
+            for _ in range(200):
+                mid = 0.5 * (lo + hi)
+                if mid <= lo or mid >= hi:
+                    break
+                if _contact(mid, src) == state:
+                    lo = mid
+                else:
+                    hi = mid
+            found[count] = hi
+            count += 1
+            state = not state
+        lo = s
+    return count
+
+
 @njit(cache=True)
 def _contact_cuts(base, src):
-    """The base boundaries with every contact switch inside them (bisected to round-off,
-    found between the Gauss nodes), and the contact state of each interval."""
+    """The base boundaries with every contact switch inside them
+    (:func:`_interval_switches`), and the contact state of each interval."""
     cuts = [base[0]]
-    samples = GAUSS_NODES.shape[0]
+    found = np.empty(GAUSS_NODES.shape[0] + 1)
     for i in range(base.shape[0] - 1):
         a, b = base[i], base[i + 1]
         if b <= a:
             continue
-        lo = a + _NUDGE * (b - a)
-        state = _contact(lo, src)
-        for j in range(samples + 1):
-            s = a + 0.5 * (b - a) * (GAUSS_NODES[j] + 1.0) if j < samples else b - _NUDGE * (b - a)
-            if _contact(s, src) != state:
-                hi = s
-                for _ in range(200):
-                    mid = 0.5 * (lo + hi)
-                    if mid <= lo or mid >= hi:
-                        break
-                    if _contact(mid, src) == state:
-                        lo = mid
-                    else:
-                        hi = mid
-                if hi > cuts[-1]:
-                    cuts.append(hi)
-                state = not state
-            lo = s
+        for j in range(_interval_switches(a, b, src, found)):
+            if found[j] > cuts[-1]:
+                cuts.append(found[j])
         if b > cuts[-1]:
             cuts.append(b)
     states = np.empty(len(cuts) - 1)
@@ -158,37 +174,58 @@ def build_pieces(base, src):
     best = np.full(2, -np.inf)  # max Ṅ, max Ṅ/K
     where = np.zeros(2)
     for i in range(n):
-        a, b = starts[i + 1], ends[i + 1]
-        pieces[i, A], pieces[i, B] = a, b
-        if not _contact(0.5 * (a + b), src):
-            continue
-        pieces[i, CONTACT] = 1.0
-        pieces[i, INT_N], pieces[i, INT_K], pieces[i, INT_K2] = piece_integrals(a, b, src)
-        ta = a + _NUDGE * (b - a) if left_switch[i + 1] else a
-        tb = b - _NUDGE * (b - a) if right_switch[i + 1] else b
-        pieces[i, N_A], pieces[i, RATE_A], pieces[i, K_A] = normal_at(ta, src)
-        pieces[i, N_B], pieces[i, RATE_B], pieces[i, K_B] = normal_at(tb, src)
-        pieces[i, N_M], pieces[i, RATE_M], pieces[i, K_M] = normal_at(0.5 * (a + b), src)
-        for j in range(GAUSS_NODES.shape[0] + 2):
-            s = ta if j == 0 else (tb if j == 1 else a + 0.5 * (b - a) * (GAUSS_NODES[j - 2] + 1))
-            for which in range(2):
-                value = _rate(s, which == 1, src)
-                if value > best[which]:
-                    best[which] = value
-                    where[which] = s
+        _fill_piece(pieces[i], starts[i + 1], ends[i + 1], left_switch[i + 1],
+                    right_switch[i + 1], src, best, where)  # fmt: skip
     for which in range(2):
         if best[which] > -np.inf:
             best[which] = _refine(where[which], which == 1, pieces, best[which], src)
     return pieces, best[0], best[1]
 
 
+@njit(cache=True, **NO_REFCOUNT)
+def _fill_piece(row, a, b, left_switch, right_switch, src, best, where):
+    """One piece's ``row`` (ends a, b [s]; its values one-sided at an end that is a
+    contact switch), and the sampled maxima of Ṅ and Ṅ/K (``best``, at times ``where``)
+    raised by its ends and Gauss nodes. Allocates nothing: no reference counting."""
+    row[A], row[B] = a, b
+    if not _contact(0.5 * (a + b), src):
+        return
+    row[CONTACT] = 1.0
+    row[INT_N], row[INT_K], row[INT_K2] = piece_integrals(a, b, src)
+    ta = a + _NUDGE * (b - a) if left_switch else a
+    tb = b - _NUDGE * (b - a) if right_switch else b
+    row[N_A], row[RATE_A], row[K_A] = normal_at(ta, src)
+    row[N_B], row[RATE_B], row[K_B] = normal_at(tb, src)
+    row[N_M], row[RATE_M], row[K_M] = normal_at(0.5 * (a + b), src)
+    for j in range(GAUSS_NODES.shape[0] + 2):
+        if j == 0:
+            s, n, rate, k = ta, row[N_A], row[RATE_A], row[K_A]
+        elif j == 1:
+            s, n, rate, k = tb, row[N_B], row[RATE_B], row[K_B]
+        else:
+            s = a + 0.5 * (b - a) * (GAUSS_NODES[j - 2] + 1)
+            n, rate, k = normal_at(s, src)
+        for which in range(2):  # one evaluation of N(t) for both rates
+            value = _rate_of(n, rate, k, which == 1)
+            if value > best[which]:
+                best[which] = value
+                where[which] = s
+
+
+@njit(cache=True, inline="always")
+def _rate_of(n, rate, k, ratio):
+    """Ṅ [N/s], or Ṅ/K [m/s] (``ratio``), from (N, Ṅ, K) at one time; -inf out of
+    contact."""
+    if n <= 0.0 or (ratio and k <= 0.0):
+        return -np.inf
+    return rate / k if ratio else rate
+
+
 @njit(cache=True, inline="always")
 def _rate(t, ratio, src):
     """Ṅ [N/s], or Ṅ/K [m/s] (``ratio``), at t; -inf out of contact."""
     n, rate, k = normal_at(t, src)
-    if n <= 0.0 or (ratio and k <= 0.0):
-        return -np.inf
-    return rate / k if ratio else rate
+    return _rate_of(n, rate, k, ratio)
 
 
 @njit(cache=True, **NO_REFCOUNT)
