@@ -1,8 +1,10 @@
 """tools/profiling/perf_map.py names numba's compiled code for perf: a function compiled
 here appears in the map at the address numba calls, and the entries are sorted,
-non-overlapping "start size name" lines."""
+non-overlapping "start size name" lines. A dead weak proxy among the collector's objects
+(a full test run leaves some) does not stop it: asked its class, it raises."""
 
 import importlib.util
+import weakref
 from pathlib import Path
 
 import numba
@@ -25,6 +27,14 @@ def test_a_compiled_function_is_named_at_its_address(tmp_path):
         return 2.0 * x + 1.0
 
     assert perf_map_probe(1.0) == 3.0
+
+    class Gone:
+        pass
+
+    gone = Gone()
+    proxy = weakref.proxy(gone)
+    del gone
+    assert proxy is not None  # kept alive, its object collected
     path = load().write_perf_map(tmp_path / "perf.map")
     entries = [line.split(" ", 2) for line in path.read_text().splitlines()]
     starts = [int(start, 16) for start, _, _ in entries]

@@ -27,7 +27,7 @@ def compiled_functions() -> dict[int, str]:
     from numba.core.registry import CPUDispatcher
 
     found: dict[int, str] = {}
-    for dispatcher in (o for o in gc.get_objects() if isinstance(o, CPUDispatcher)):
+    for dispatcher in _instances(CPUDispatcher):
         for result in dispatcher.overloads.values():
             library = result.library
             engine = library._codegen._engine
@@ -40,6 +40,19 @@ def compiled_functions() -> dict[int, str]:
                     address = engine.get_function_address(function.name)
                     if address:
                         found[address] = function.name
+    return found
+
+
+def _instances(cls: type) -> list:
+    """The objects the garbage collector tracks that are instances of ``cls``. A weak
+    proxy whose object is gone raises ReferenceError when asked its class: skipped."""
+    found = []
+    for obj in gc.get_objects():
+        try:
+            if isinstance(obj, cls):
+                found.append(obj)
+        except ReferenceError:
+            continue
     return found
 
 
