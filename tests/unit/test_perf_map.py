@@ -41,10 +41,7 @@ def test_a_compiled_function_is_named_at_its_address(tmp_path):
     sizes = [int(size, 16) for _, size, _ in entries]
     assert starts == sorted(starts) and all(s > 0 for s in sizes)
     assert all(a + s <= b for a, s, b in zip(starts, sizes, starts[1:], strict=False))
-    named = {
-        name.strip(): start
-        for start, _, name in zip(starts, sizes, [e[2] for e in entries], strict=True)
-    }
+    named = {name: int(start, 16) for start, _, name in entries}
     probe = [
         name
         for name in named
