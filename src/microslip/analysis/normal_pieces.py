@@ -197,19 +197,23 @@ def _fill_piece(row, a, b, left_switch, right_switch, src, best, where):
     row[N_A], row[RATE_A], row[K_A] = normal_at(ta, src)
     row[N_B], row[RATE_B], row[K_B] = normal_at(tb, src)
     row[N_M], row[RATE_M], row[K_M] = normal_at(0.5 * (a + b), src)
-    for j in range(GAUSS_NODES.shape[0] + 2):
-        if j == 0:
-            s, n, rate, k = ta, row[N_A], row[RATE_A], row[K_A]
-        elif j == 1:
-            s, n, rate, k = tb, row[N_B], row[RATE_B], row[K_B]
-        else:
-            s = a + 0.5 * (b - a) * (GAUSS_NODES[j - 2] + 1)
-            n, rate, k = normal_at(s, src)
-        for which in range(2):  # one evaluation of N(t) for both rates
-            value = _rate_of(n, rate, k, which == 1)
-            if value > best[which]:
-                best[which] = value
-                where[which] = s
+    _raise_maxima(ta, row[N_A], row[RATE_A], row[K_A], best, where)
+    _raise_maxima(tb, row[N_B], row[RATE_B], row[K_B], best, where)
+    for j in range(GAUSS_NODES.shape[0]):
+        s = a + 0.5 * (b - a) * (GAUSS_NODES[j] + 1)
+        n, rate, k = normal_at(s, src)
+        _raise_maxima(s, n, rate, k, best, where)
+
+
+@njit(cache=True, inline="always")
+def _raise_maxima(s, n, rate, k, best, where):
+    """Raise the sampled maxima of Ṅ and Ṅ/K (``best``, at times ``where``) by the
+    values at time s [s]: one evaluation of N(t) serves both rates."""
+    for which in range(2):
+        value = _rate_of(n, rate, k, which == 1)
+        if value > best[which]:
+            best[which] = value
+            where[which] = s
 
 
 @njit(cache=True, inline="always")
