@@ -49,6 +49,24 @@ def test_integrals_extremes_and_critical_points_of_random_quartics(seed):
     np.testing.assert_allclose(crit[:n_crit], roots, atol=1e-12)
 
 
+@pytest.mark.parametrize(
+    "a, roots",
+    [((0.0,) * 5, []), ((0.0, 0.0, 1e-300, -1e-300, 0.0), [2.0 / 3.0]),
+     ((0.0, 0.0, 0.0, 0.0, -1.0), [])],
+)  # fmt: skip
+def test_extremes_of_a_piece_in_flight_and_of_pieces_that_start_at_zero(a, roots):
+    """P = 0 (a piece in flight: a third of a forced tape's rows near resonance) takes
+    its own short path; a P that starts at 0 with P'(0) = 0 but is not 0 must not (a
+    shortcut on the first coefficients would lose the critical point at τ = 2/3)."""
+    p = np.polynomial.Polynomial(a)
+    grid = np.linspace(0.0, 1.0, 30001)
+    p_min, p_max, n_crit, *crit = nt._extremes(a)
+    assert p_min == pytest.approx(p(grid).min(), abs=1e-315)
+    assert p_max == pytest.approx(p(grid).max(), abs=1e-315)
+    assert n_crit == len(roots)
+    np.testing.assert_allclose(crit[:n_crit], roots, atol=1e-12)
+
+
 @pytest.mark.parametrize("slope", [1e-3, 1e-6, 1e-9])
 def test_release_is_the_first_point_strictly_below_the_level_where_p_is_flat(slope):
     """A stick release at the first τ with P(τ) < |F|/μ_s strictly, even where P is

@@ -180,6 +180,8 @@ def _extremes(a):
         c0 < 0.0 and b1 < 0.0 and b2 < 0.0 and b3 < 0.0
     ):
         return p_min, p_max, 0, 0.0, 0.0, 0.0
+    if flight_piece(a):  # P = 0 (a third of a forced tape's rows near resonance)
+        return p_min, p_max, 0, 0.0, 0.0, 0.0
     # P' is monotone between the roots of P'' (a quadratic): at most one root of P' in
     # each of those intervals, found by bisection where P' changes sign.
     qa, qb, qc = 12.0 * a[4], 6.0 * a[3], 2.0 * a[2]
@@ -202,7 +204,8 @@ def _extremes(a):
     if not 0.0 < turn_a < 1.0:
         turn_a = 2.0
     edges = (0.0, min(turn_a, 1.0), min(turn_b, 1.0), 1.0)
-    found = [0.0, 0.0, 0.0]
+    # The critical points as scalars: a list would be allocated (and freed) per row.
+    tau1, tau2, tau3 = 0.0, 0.0, 0.0
     n_crit = 0
     for k in range(3):
         lo, hi = edges[k], edges[k + 1]
@@ -212,9 +215,14 @@ def _extremes(a):
         if (f_lo > 0.0 and f_hi < 0.0) or (f_lo < 0.0 and f_hi > 0.0):
             tau = _root_of_rate(a, lo, hi)
             if 0.0 < tau < 1.0:
-                found[n_crit] = tau
+                if n_crit == 0:
+                    tau1 = tau
+                elif n_crit == 1:
+                    tau2 = tau
+                else:
+                    tau3 = tau
                 n_crit += 1
                 value = poly(a, tau)
                 p_min = min(p_min, value)
                 p_max = max(p_max, value)
-    return p_min, p_max, n_crit, found[0], found[1], found[2]
+    return p_min, p_max, n_crit, tau1, tau2, tau3
