@@ -14,11 +14,13 @@ from numba.core.errors import TypingError
 from microslip._refcount import NO_REFCOUNT
 from microslip.analysis import contact_point, normal_flow, normal_pieces
 from microslip.analysis.orbit_table import orbit_state
+from microslip.integrators import mindlin_lane_law, spring_lane_law
 
 HOT = [
     normal_flow._step, normal_flow._first_switch, normal_flow._locate, normal_flow._value,
     contact_point._period, contact_point._root, contact_point._steady,
     normal_pieces.piece_integrals, normal_pieces._fill_piece, normal_pieces._interval_switches,
+    spring_lane_law.lane_piece, mindlin_lane_law.lane_piece, mindlin_lane_law._first_exit,
 ]  # fmt: skip
 
 

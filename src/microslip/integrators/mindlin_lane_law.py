@@ -31,6 +31,7 @@ from __future__ import annotations
 from numba import njit
 
 from microslip import _jit_cache  # noqa: F401  (registers the cache before any @njit)
+from microslip._refcount import NO_REFCOUNT
 from microslip.integrators import normal_tape as nt
 from microslip.integrators.kernel import MAX_SWITCHES_PER_STEP
 
@@ -223,7 +224,7 @@ def _inside(kind, value):
     return value >= 0.0 if kind == _STICK else value > 0.0
 
 
-@njit(cache=True)
+@njit(cache=True, **NO_REFCOUNT)
 def _first_exit(kind, a, piece, p, bound2, bound3, noise, lo, hi):
     """First τ in [lo, hi] where the switching function is outside, 2 if none, -1 if the
     search stalled: the marching of ``spring_lane_law._first_exit`` (safe steps from
@@ -252,7 +253,7 @@ def _first_exit(kind, a, piece, p, bound2, bound3, noise, lo, hi):
     return -1.0
 
 
-@njit(cache=True)
+@njit(cache=True, **NO_REFCOUNT)
 def lane_piece(a, piece, force, fm, km, mu_s, mu_k, x, v, f, mode):
     """(x, ẋ, f, mode, switches) of one lane at the end of a contact piece, through its
     switches; switches = -1 if the lane stalled (spring_lane_law.lane_piece's rules)."""

@@ -43,6 +43,7 @@ import math
 from numba import njit
 
 from microslip import _jit_cache  # noqa: F401  (registers the cache before any @njit)
+from microslip._refcount import NO_REFCOUNT
 from microslip.integrators import normal_tape as nt
 from microslip.integrators.kernel import MAX_SWITCHES_PER_STEP
 from microslip.integrators.rigid_lane_law import slip_position
@@ -266,7 +267,7 @@ def set_piece(piece, a, h):
     piece[P_D0], piece[P_D1], piece[P_D2], piece[P_D3] = derivative_bounds(a)
 
 
-@njit(cache=True)
+@njit(cache=True, **NO_REFCOUNT)
 def lane_piece(a, piece, force, fm, km, mu_s, mu_k, x, v, f, mode):
     """(x, ẋ, f, mode, switches) of one lane at the end of a contact piece, through its
     switches; switches = -1 if the lane stalled."""
