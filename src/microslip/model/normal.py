@@ -36,6 +36,8 @@ from microslip.model.excitation import (
 
 __all__ = [
     "acceleration_from_force",
+    "acceleration_from_forcing",
+    "forcing",
     "gap",
     "normal_acceleration",
     "normal_force",
@@ -82,14 +84,34 @@ def normal_force(t, y, ydot, c):
 
 
 @njit(cache=True, error_model="numpy")
-def acceleration_from_force(t, normal, c):
-    """ÿ [m/s^2] given the normal force N [N] at t: g + P(t)/m - N/m (eq. 2.4 with
-    excitation); δ̈(t) if prescribed (N is then not used)."""
+def forcing(t, c):
+    """The term of the normal acceleration that depends on time alone, at t: P(t) [N]
+    of a harmonic force, δ̈(t) [m/s^2] of a prescribed penetration, else 0. One sine
+    (or cosine) of the excitation: a step whose stages share a time evaluates it once
+    for them all (:mod:`microslip.integrators.normal_step`)."""
+    if c[EXCITATION_KIND] == NONE:
+        return 0.0
+    if is_prescribed(c):
+        return prescribed_gap(t, c)[2]
+    return applied_force(t, c)
+
+
+@njit(cache=True, error_model="numpy")
+def acceleration_from_forcing(forcing_value, normal, c):
+    """ÿ [m/s^2] given :func:`forcing` and the normal force N [N] at one time:
+    g + P/m - N/m (eq. 2.4 with excitation); δ̈ if prescribed (N is then not used)."""
     if c[EXCITATION_KIND] == NONE:
         return c[GRAVITY] - normal / c[MASS]
     if is_prescribed(c):
-        return prescribed_gap(t, c)[2]
-    return c[GRAVITY] + (applied_force(t, c) - normal) / c[MASS]
+        return forcing_value
+    return c[GRAVITY] + (forcing_value - normal) / c[MASS]
+
+
+@njit(cache=True, error_model="numpy")
+def acceleration_from_force(t, normal, c):
+    """ÿ [m/s^2] given the normal force N [N] at t: g + P(t)/m - N/m (eq. 2.4 with
+    excitation); δ̈(t) if prescribed (N is then not used)."""
+    return acceleration_from_forcing(forcing(t, c), normal, c)
 
 
 @njit(cache=True, error_model="numpy")
