@@ -22,6 +22,7 @@ from microslip.simulation import initial_state_from_amplitude
 
 PARAMS = ms.Parameters()
 Y0 = PARAMS.static_deflection
+T0 = PARAMS.natural_period
 DRIVE = ms.PrescribedVelocity(1.0)  # the tape copy's drive (normal_tape.normal_coefficients)
 
 CASES = {
@@ -39,6 +40,16 @@ CASES = {
     ),
     # Hertz contact (m2 = 1.5), flights.
     "hertz, flights": (ms.Model(ms.Parameters(m2=1.5), drive=DRIVE), 2.0 * Y0),
+    # The surface moves (its sine and cosine shared by a step's stages: normal_step.rk4).
+    "base motion, flights": (
+        ms.Model(
+            PARAMS,
+            damping=ms.Viscous(0.05),
+            excitation=ms.BaseMotion(1.5 * Y0, 0.9 / T0),
+            drive=DRIVE,
+        ),
+        0.0,
+    ),
 }
 
 

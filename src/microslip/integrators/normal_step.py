@@ -35,7 +35,13 @@ from microslip.integrators.switching import (
 )
 from microslip.model.damping import can_separate_in_overlap
 from microslip.model.excitation import is_prescribed
-from microslip.model.normal import acceleration_from_forcing, forcing, gap, normal_force
+from microslip.model.normal import (
+    acceleration_from_forcing,
+    forcing,
+    gap_from,
+    normal_force_from,
+    surface,
+)
 from microslip.model.switching_functions import (
     contact_side_rate,
     separation_rate,
@@ -53,7 +59,7 @@ _OF_VALUE = np.bool_(False)
 # error model: each compiled call passed the coefficient tuple (SIZE floats) by value, a
 # third of a step's cost (docs/design.md, "Compile time").
 @njit(cache=True, error_model="numpy", inline="always")
-def end_values(t, y, ydot, forcing_value, c):
+def end_values(t, y, ydot, terms, c):
     """(ÿ [m/s^2], N_raw [N], dN_raw/dt [N/s], δ [m], δ̇ [m/s], dN/dt in contact [N/s])
     at a piece end: the normal acceleration, the SEPARATION function and its rate (the
     raw law: continuous through a separation inside the overlap, where the clipped N has
@@ -62,10 +68,10 @@ def end_values(t, y, ydot, forcing_value, c):
     of contact at δ = 0 the piece before it ends with the law's slope, S c_n δ̇ for
     m2 = 1, where SEPARATION's rate, past δ = 0, is 0). Computed once per boundary: the
     quartics on either side, the screening of the step and the next step's first RK4
-    stage share them. ``forcing_value`` is :func:`~microslip.model.normal.forcing` at
-    t, which the step's last stage shares (one sine of a harmonic force fewer)."""
-    delta, delta_rate, third = gap(t, y, ydot, c)
-    acceleration = acceleration_from_forcing(forcing_value, normal_force(t, y, ydot, c), c)
+    stage share them. ``terms`` are :func:`time_terms` at t, which the step's last
+    stage shares."""
+    delta, delta_rate, third = gap_from(terms[1], y, ydot, c)
+    acceleration = acceleration_from_forcing(terms[0], normal_force_from(terms[1], y, ydot, c), c)
     delta_accel = third if is_prescribed(c) else acceleration - third
     return (
         acceleration,
@@ -78,35 +84,46 @@ def end_values(t, y, ydot, forcing_value, c):
 
 
 @njit(cache=True, inline="always")
-def _held_acceleration(t, forcing_value, y, v, c, flight):
-    """ÿ [m/s^2] at a stage at t [s] (``forcing_value``: :func:`~microslip.model.normal.forcing`
-    there): N = 0 in flight, else the law at the stage state."""
+def time_terms(t, c):
+    """What the normal motion's laws read of time at t (a nested tuple): the forcing
+    term of the acceleration (:func:`~microslip.model.normal.forcing`) and the surface
+    motion or prescribed penetration (:func:`~microslip.model.normal.surface`). Each is
+    a sine (and cosine) of the excitation at most; the stages of a step that share a
+    time share them."""
+    return forcing(t, c), surface(t, c)
+
+
+@njit(cache=True, inline="always")
+def _held_acceleration(terms, y, v, c, flight):
+    """ÿ [m/s^2] at a stage whose :func:`time_terms` are ``terms``: N = 0 in flight,
+    else the law at the stage state."""
     if flight:
-        return acceleration_from_forcing(forcing_value, 0.0, c)
-    return acceleration_from_forcing(forcing_value, normal_force(t, y, v, c), c)
+        return acceleration_from_forcing(terms[0], 0.0, c)
+    return acceleration_from_forcing(terms[0], normal_force_from(terms[1], y, v, c), c)
 
 
 @njit(cache=True, error_model="numpy", inline="always")
-def rk4(t, h, t1, y, v, a1, forcing_end, c, flight):
+def rk4(t, h, t1, y, v, a1, terms_end, c, flight):
     """One RK4 step of the normal motion alone: the arithmetic of
     :func:`~microslip.integrators.steppers.rk4_step` on the (y, ẏ) components; ``a1`` is
     ÿ at the step start (from :func:`end_values`). In ``flight`` N = 0 at every stage
     (the mode holds the contact: :func:`~microslip.model.system.derivatives`). The last
     stage is at ``t1``, the step's end (its grid point), which is t + h to the bit
     wherever t >= t1/2 (then h = t1 - t is exact, by Sterbenz's lemma): every step but
-    one that starts at a switch inside the first grid interval. The time-dependent
-    term of the acceleration (:func:`~microslip.model.normal.forcing`, a sine of a
-    harmonic force) is evaluated once for the two middle stages, and taken at ``t1`` as
-    ``forcing_end``, which the step's end values share (:func:`end_values`): two sines a
-    step instead of four, the same bits."""
+    one that starts at a switch inside the first grid interval. What the laws read of
+    time (:func:`time_terms`: the sine of a harmonic force, the sine and cosine of a
+    base motion) is evaluated once for the two middle stages, and taken at ``t1`` as
+    ``terms_end``, which the step's end values share (:func:`end_values`): two
+    evaluations a step instead of four (a harmonic force) or seven (a base motion),
+    the same bits."""
     hh = 0.5 * h
-    forcing_mid = forcing(t + hh, c)
+    terms_mid = time_terms(t + hh, c)
     y2, v2 = y + hh * v, v + hh * a1
-    a2 = _held_acceleration(t + hh, forcing_mid, y2, v2, c, flight)
+    a2 = _held_acceleration(terms_mid, y2, v2, c, flight)
     y3, v3 = y + hh * v2, v + hh * a2
-    a3 = _held_acceleration(t + hh, forcing_mid, y3, v3, c, flight)
+    a3 = _held_acceleration(terms_mid, y3, v3, c, flight)
     y4, v4 = y + h * v3, v + h * a3
-    a4 = _held_acceleration(t1, forcing_end, y4, v4, c, flight)
+    a4 = _held_acceleration(terms_end, y4, v4, c, flight)
     w = h / 6.0
     return y + w * (v + 2.0 * v2 + 2.0 * v3 + v4), v + w * (a1 + 2.0 * a2 + 2.0 * a3 + a4)
 
@@ -148,9 +165,9 @@ def _locate(which, of_rate, t, h, y, v, a0, c, flight, lo, hi, f_lo, f_hi):
         if hi - lo <= tolerance:
             break
         t_mid = t + theta * h
-        forcing_mid = forcing(t_mid, c)
-        y_mid, v_mid = rk4(t, theta * h, t_mid, y, v, a0, forcing_mid, c, flight)
-        g, rate = _function(which, end_values(t_mid, y_mid, v_mid, forcing_mid, c))
+        terms_mid = time_terms(t_mid, c)
+        y_mid, v_mid = rk4(t, theta * h, t_mid, y, v, a0, terms_mid, c, flight)
+        g, rate = _function(which, end_values(t_mid, y_mid, v_mid, terms_mid, c))
         f_mid = rate if of_rate else g
         slope = math.nan if of_rate else rate * h
         theta, lo, hi, f_lo, f_hi, retained = bracket_step(
@@ -184,9 +201,9 @@ def contact_switch(t, h, y, v, ends0, ends1, c, flight):
             theta_x = _locate(which, _OF_RATE, t, h, y, v, ends0[0], c, flight, 0.0, 1.0, r0, r1)
             if 0.0 < theta_x < 1.0:
                 t_x = t + theta_x * h
-                forcing_x = forcing(t_x, c)
-                y_x, v_x = rk4(t, theta_x * h, t_x, y, v, ends0[0], forcing_x, c, flight)
-                g_x = _function(which, end_values(t_x, y_x, v_x, forcing_x, c))[0]
+                terms_x = time_terms(t_x, c)
+                y_x, v_x = rk4(t, theta_x * h, t_x, y, v, ends0[0], terms_x, c, flight)
+                g_x = _function(which, end_values(t_x, y_x, v_x, terms_x, c))[0]
                 if (g_x > 0.0) != in0:
                     theta = _locate(
                         which, _OF_VALUE, t, h, y, v, ends0[0], c, flight, 0.0, theta_x, g0, g_x

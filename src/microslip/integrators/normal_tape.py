@@ -46,7 +46,13 @@ from microslip.integrators.kernel import (
     as_tuple,
     next_grid_point,
 )
-from microslip.integrators.normal_step import contact_switch, end_values, may_switch, rk4
+from microslip.integrators.normal_step import (
+    contact_switch,
+    end_values,
+    may_switch,
+    rk4,
+    time_terms,
+)
 
 # A row's columns and the quartic of its piece are tape_row's; all its names are
 # re-exported here (callers read nt.ROW, nt.H, nt.poly, nt.integral, ...).
@@ -105,7 +111,7 @@ from microslip.model.coefficients import (
 )
 from microslip.model.drive import KINEMATIC
 from microslip.model.friction import COULOMB
-from microslip.model.normal import forcing, gap, normal_force, raw_normal_force
+from microslip.model.normal import gap, normal_force, raw_normal_force
 from microslip.model.switches import contact_event, rigid_contact_mode, rigid_initial_mode
 from microslip.model.system import N_STATE, airborne
 from microslip.model.tangential import RIGID
@@ -210,7 +216,7 @@ def fill_tape(carry, c_array, t_end, dt, tape, work):
         start[:] = 0.0
         start[0], start[1], start[3] = y, v, 1.0
         mode = rigid_initial_mode(t, start, normal_force(t, y, v, c), c)
-    ends0 = end_values(t, y, v, forcing(t, c), c)
+    ends0 = end_values(t, y, v, time_terms(t, c), c)
     rows = 0
     status = 0
     switches_in_step = 0
@@ -221,18 +227,18 @@ def fill_tape(carry, c_array, t_end, dt, tape, work):
         target, k = next_grid_point(t, 0.0, k, dt, t_end)
         h = target - t
         t1 = target
-        forcing1 = forcing(t1, c)  # shared by the step's last stage and its end values
-        y1, v1 = rk4(t, h, t1, y, v, ends0[0], forcing1, c, airborne(mode))
-        ends1 = end_values(t1, y1, v1, forcing1, c)
+        terms1 = time_terms(t1, c)  # shared by the step's last stage and its end values
+        y1, v1 = rk4(t, h, t1, y, v, ends0[0], terms1, c, airborne(mode))
+        ends1 = end_values(t1, y1, v1, terms1, c)
         if may_switch(h, ends0, ends1, c):
             theta, which = contact_switch(t, h, y, v, ends0, ends1, c, airborne(mode))
             if which >= 0 and theta < 1.0:
                 t1 = t + theta * h
-                forcing1 = forcing(t1, c)
-                y1, v1 = rk4(t, theta * h, t1, y, v, ends0[0], forcing1, c, airborne(mode))
+                terms1 = time_terms(t1, c)
+                y1, v1 = rk4(t, theta * h, t1, y, v, ends0[0], terms1, c, airborne(mode))
                 # The copy's contact is rigid: apply_switch's law for it.
                 mode = rigid_contact_mode(contact_event(which, t1, y1, v1, c), mode, c)
-                ends1 = end_values(t1, y1, v1, forcing1, c)
+                ends1 = end_values(t1, y1, v1, terms1, c)
                 switches_in_step += 1
                 if switches_in_step > MAX_SWITCHES_PER_STEP:
                     status = STALLED

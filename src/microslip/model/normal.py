@@ -39,12 +39,39 @@ __all__ = [
     "acceleration_from_forcing",
     "forcing",
     "gap",
+    "gap_from",
     "normal_acceleration",
     "normal_force",
+    "normal_force_from",
     "normal_force_partials",
     "normal_force_rate",
     "raw_normal_force",
+    "surface",
 ]
+
+
+@njit(cache=True, error_model="numpy")
+def surface(t, c):
+    """What the penetration reads of time at t: (z [m], ż [m/s], z̈ [m/s^2]) of the
+    slideway surface, or for a prescribed penetration (δ [m], δ̇ [m/s], δ̈ [m/s^2]);
+    zeros, without a sine, for the other excitations. A step whose stages share a time
+    evaluates it once for them all (:mod:`microslip.integrators.normal_step`)."""
+    if c[EXCITATION_KIND] == NONE:
+        return 0.0, 0.0, 0.0
+    if is_prescribed(c):
+        return prescribed_gap(t, c)
+    return surface_motion(t, c)
+
+
+@njit(cache=True, error_model="numpy")
+def gap_from(surface_terms, y, ydot, c):
+    """:func:`gap` given :func:`surface` at its time."""
+    if c[EXCITATION_KIND] == NONE:
+        return y, ydot, 0.0
+    if is_prescribed(c):
+        return surface_terms
+    z, zdot, zddot = surface_terms
+    return y - z, ydot - zdot, zddot
 
 
 @njit(cache=True, error_model="numpy")
@@ -54,12 +81,7 @@ def gap(t, y, ydot, c):
     With a prescribed penetration, δ and δ̇ are the prescribed ones and the third value
     is δ̈ (the body's ÿ then follows δ̈).
     """
-    if c[EXCITATION_KIND] == NONE:  # the paper's free vibration: skip the sin/cos
-        return y, ydot, 0.0
-    if is_prescribed(c):
-        return prescribed_gap(t, c)
-    z, zdot, zddot = surface_motion(t, c)
-    return y - z, ydot - zdot, zddot
+    return gap_from(surface(t, c), y, ydot, c)
 
 
 @njit(cache=True, error_model="numpy")
@@ -76,7 +98,13 @@ def raw_normal_force(t, y, ydot, c):
 @njit(cache=True, error_model="numpy")
 def normal_force(t, y, ydot, c):
     """Compressive normal force N >= 0 [N] (the paper's |R|, eq. 2.3, with damping)."""
-    delta, delta_rate, _ = gap(t, y, ydot, c)
+    return normal_force_from(surface(t, c), y, ydot, c)
+
+
+@njit(cache=True, error_model="numpy")
+def normal_force_from(surface_terms, y, ydot, c):
+    """:func:`normal_force` given :func:`surface` at its time."""
+    delta, delta_rate, _ = gap_from(surface_terms, y, ydot, c)
     if delta <= 0.0:
         return 0.0
     n = damped_force(elastic_force(delta, c), delta_rate, c)
