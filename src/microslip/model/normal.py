@@ -65,7 +65,8 @@ def surface(t, c):
 
 @njit(cache=True, error_model="numpy")
 def gap_from(surface_terms, y, ydot, c):
-    """:func:`gap` given :func:`surface` at its time."""
+    """:func:`gap` (δ [m], δ̇ [m/s], z̈ or δ̈ [m/s^2]) at the state (y [m], ẏ [m/s]),
+    given ``surface_terms`` = :func:`surface` at its time."""
     if c[EXCITATION_KIND] == NONE:
         return y, ydot, 0.0
     if is_prescribed(c):
@@ -103,7 +104,8 @@ def normal_force(t, y, ydot, c):
 
 @njit(cache=True, error_model="numpy")
 def normal_force_from(surface_terms, y, ydot, c):
-    """:func:`normal_force` given :func:`surface` at its time."""
+    """:func:`normal_force` N >= 0 [N] at the state (y [m], ẏ [m/s]), given
+    ``surface_terms`` = :func:`surface` at its time."""
     delta, delta_rate, _ = gap_from(surface_terms, y, ydot, c)
     if delta <= 0.0:
         return 0.0
