@@ -27,6 +27,7 @@ from microslip.integrators import (
     mindlin_lanes,
     normal_step,
     rigid_pass,
+    spring_lanes,
     switching,
 )
 from microslip.integrators.batched import simulate_batch
@@ -57,9 +58,12 @@ DISPATCHERS = {
     "normal_force_call": system.normal_force_call,
     "normal_force_rate_call": system.normal_force_rate_call,
     # Not the switching core, but as large: the rigid lanes over a range of tape rows,
-    # the Mindlin lanes over a range of rows, the moves of parked lanes, the output.
+    # the spring lanes by spans and row by row, the Mindlin lanes over a range of rows,
+    # the moves of parked lanes, the output.
     "lanes_over_rows": rigid_pass.lanes_over_rows,
     "rows_one_by_one": rigid_pass.rows_one_by_one,
+    "spring_lanes._spans": spring_lanes._spans,
+    "spring_lanes._rows": spring_lanes._rows,
     "_run_rows": mindlin_lanes._run_rows,
     "_copy_lane": lane_parking._copy_lane,
     "_write": kernel._write,
@@ -154,4 +158,6 @@ def _run_the_lane_kernels(params):
     ms.velocity_map(params, forces=[0.2, 0.6], amplitudes=[1e-7], method="time", duration=4e-3)
     for tangential in (ms.TangentialSpring(params.contact_stiffness), ms.MindlinSpring(0.8235)):
         model = ms.Model(params, tangential=tangential)
-        ms.sweep(model, None, force=[0.3], amplitude=[0.0, 1e-7], method="time", duration=4e-3)
+        # Two forces: on a span one lane sticks throughout and the other goes row by row.
+        ms.sweep(model, None, force=[0.3, 0.95], amplitude=[0.0, 1e-7], method="time",
+                 duration=4e-3)  # fmt: skip

@@ -59,6 +59,7 @@ from microslip.integrators.spring_lanes_cuda import (
     COARSE,
     lane_results,
     lanes_kernel,
+    no_span,
     start_lanes,
 )
 from microslip.integrators.tape_row import flight_piece
@@ -158,7 +159,7 @@ def mindlin_piece(tapes, g, r, a, h, setups, pieces, piece, force, fm, km, mu_s,
 def _kernels():
     """(pieces' table kernel, lane kernel), compiled for the GPU on their first launch."""
     device = cuda.jit(device=True)
-    lanes = lanes_kernel(device(mindlin_setup), device(mindlin_piece), law.PIECE)
+    lanes = lanes_kernel(device(mindlin_setup), device(mindlin_piece), device(no_span), law.PIECE)
     return cuda.jit(piece_table_row), lanes
 
 

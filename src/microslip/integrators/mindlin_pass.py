@@ -16,7 +16,7 @@ from numba import njit
 from microslip import _jit_cache  # noqa: F401  (registers the cache before any @njit)
 from microslip.integrators import mindlin_lane_law as law
 from microslip.integrators import normal_tape as nt
-from microslip.integrators.spring_lanes import FLAG, FM, FORCE, FS, KM, MODE, MU_K, MU_S, V, X
+from microslip.integrators.spring_pass import FLAG, FM, FORCE, FS, KM, MODE, MU_K, MU_S, V, X
 
 
 @njit(cache=True, inline="always", error_model="numpy")

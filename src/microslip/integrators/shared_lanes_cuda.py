@@ -103,6 +103,13 @@ def block_rows(n_groups: int, tape_rows: int | None = None) -> int:
     return max(16, min(TAPE_ROWS, TAPE_BLOCK_BYTES // (n_groups * nt.ROW * 8)))
 
 
+def span_rows(n_groups: int, tape_rows: int | None = None) -> int:
+    """:func:`block_rows` rounded down to whole spans (``rigid_pass.SPAN_ROWS``): the
+    lanes then take the CPU kernels' spans of a tape's rows (every SPAN_ROWS from its
+    start, nt.TAPE_ROWS a multiple), none across two blocks."""
+    return max(SPAN_ROWS, block_rows(n_groups, tape_rows) // SPAN_ROWS * SPAN_ROWS)
+
+
 def cuda_unavailable() -> str | None:
     """None when a CUDA GPU (or numba's CUDA simulator) can run the lanes, else why not,
     in one line."""
@@ -380,9 +387,7 @@ def run_shared_cuda(normal_coeffs, normal_states0, group_of_lane, forces, mu_sta
         n0 = normal_force(0.0, y0, ydot0, as_tuple(normal_coeffs[g]))  # the tuple form
         start_modes(lanes, starts[g], starts[g + 1], n0)
     lane_group = np.repeat(np.arange(n_groups), np.diff(starts))
-    # Blocks of whole spans: the lanes then take the CPU kernel's spans of a tape's rows
-    # (every SPAN_ROWS from its start, nt.TAPE_ROWS a multiple), none across two blocks.
-    tape_rows = max(SPAN_ROWS, block_rows(n_groups, tape_rows) // SPAN_ROWS * SPAN_ROWS)
+    tape_rows = span_rows(n_groups, tape_rows)
     cycles = periodic_tape.cycles(normal_coeffs, normal_states0, periods, float(t_end), float(dt))
     cycle_shape = cycles[2][:, :3].astype(np.int64)  # period rows, tail rows, repeats
     cycle_rows = cycles[0] if cycles[0].shape[0] > 0 else np.zeros((1, nt.ROW))  # none: 1 row

@@ -7,12 +7,15 @@ constant force F, advanced over each piece in closed form by the law of
 :mod:`microslip.integrators.spring_lane_law`. A piece in flight (P = 0) moves every lane
 ballistically, its spring relaxed (the lift-off is applied to all lanes at once).
 
-A contact piece is a branch-free pass over the lanes (a few dozen flops each) that also
-bounds each lane's switching function over the piece: with |g''| <= M on [0, 1] (in τ),
-g >= min(g(0), g(1)) - M/8 (for the stick margin min(μ_s P ∓ f) this is
-min(μ_s P - |f|) at the two ends, less M/8). A lane whose bound does not prove the piece
-free of switches, or that lands on it, is redone alone by
-:func:`~microslip.integrators.spring_lane_law.lane_piece`.
+A contact piece is a branch-free pass over the lanes that advances each as if the piece
+held no switch and flags those whose bound does not prove it
+(:func:`~microslip.integrators.spring_pass.vector_pass`); the flagged ones are redone
+alone by :func:`~microslip.integrators.spring_lane_law.lane_piece`. The rows go
+SPAN_ROWS at a time from the tape's start, whatever the lanes (:func:`_spans`): a lane
+that provably sticks throughout a span turns its oscillator once over it
+(:func:`~microslip.integrators.spring_pass.span_pass`), and the others go through the
+span's rows one by one on a compact copy, as the rigid lanes do
+(:mod:`~microslip.integrators.rigid_pass`).
 
 A lane's arithmetic depends only on its own parameters and its group's tape (no
 fastmath): its result is the same bits whatever the other lanes, their number, their
@@ -31,6 +34,7 @@ from microslip import _jit_cache  # noqa: F401  (registers the cache before any 
 from microslip.integrators import normal_tape as nt
 from microslip.integrators import periodic_tape, threads
 from microslip.integrators.kernel import as_tuple
+from microslip.integrators.rigid_pass import SPAN_ROWS
 from microslip.integrators.setup_copies import SetupCopies
 from microslip.integrators.shared_lanes import (
     LANE_STALLED,
@@ -42,76 +46,33 @@ from microslip.integrators.shared_lanes import (
 )
 from microslip.integrators.spring_lane_law import (
     FLIGHT,
-    P_D1,
-    P_D2,
-    P_D3,
-    P_H,
     P_KT,
     P_MASS,
     P_OMEGA,
-    P_THETA,
     PIECE,
     lane_piece,
-    oscillation,
     set_piece,
     set_spring,
+)
+from microslip.integrators.spring_pass import (
+    FLAG,
+    FM,
+    FORCE,
+    FS,
+    KM,
+    LANE_ROWS,
+    MODE,
+    MU_K,
+    MU_S,
+    V,
+    X,
+    span_constants,
+    span_pass,
+    vector_pass,
 )
 from microslip.integrators.tape_row import flight_piece
 from microslip.model.coefficients import GRAVITY, MASS
 from microslip.model.normal import normal_force
-
-# Rows of the lane array of a group.
-FORCE, FM, KM, MU_S, MU_K, X, V, FS, MODE, FLAG = range(10)
-LANE_ROWS = 10
-
-
-@njit(cache=True, inline="always", error_model="numpy")
-def piece_constants(a, piece, h_int, h2_kint):
-    """The numbers of a contact piece that every lane shares (a tuple for
-    :func:`free_piece`): the oscillator's sin and cos over the piece, the ends of P and
-    P', the bounds' factors; ``h_int`` = h I(1), ``h2_kint`` = h² K(1)."""
-    h, theta, omega, k_t = piece[P_H], piece[P_THETA], piece[P_OMEGA], piece[P_KT]
-    mass, d1, d2, d3 = piece[P_MASS], piece[P_D1], piece[P_D2], piece[P_D3]
-    sin_t, cos_minus_one = oscillation(theta)
-    return (
-        h, sin_t, cos_minus_one, sin_t / omega, sin_t / (mass * omega), cos_minus_one / k_t,
-        k_t / omega, 1.0 / (k_t * h), a[0], nt.poly(a, 1.0), a[1], nt.poly_rate(a, 1.0),
-        theta * theta / 8.0, d2 / 8.0, h * d1 / 8.0, d3 / 8.0, 0.5 * h * h, h_int, h2_kint,
-    )  # fmt: skip
-
-
-@njit(cache=True, inline="always", error_model="numpy")
-def free_piece(k, s, xi, vi, fi, force, fm, km, mu_s, mu_k):
-    """(flag, x1, ẋ1, f1) of a lane over a contact piece as if it held no switch (the
-    oscillator in stick, the rigid law in slip), ``k`` from :func:`piece_constants`;
-    ``flag`` where its switching function may reach its boundary inside (module doc) or
-    it lands here: then :func:`~microslip.integrators.spring_lane_law.lane_piece` must
-    redo it. Branch-free."""
-    h, sin_t, cos_minus_one, sin_over_omega, sin_over_m_omega, cm1_over_kt = k[:6]
-    kt_over_omega, inv_kt_h, p0, p1, rate0, rate1 = k[6:12]
-    theta2_8, d2_8, h_d1_8, d3_8, h2_half, h_int, h2_kint = k[12:]
-    # Stick: the oscillator.
-    e0 = fi - force
-    b = kt_over_omega * vi
-    x_st = xi + e0 * cm1_over_kt + vi * sin_over_omega
-    v_st = vi * (1.0 + cos_minus_one) - e0 * sin_over_m_omega
-    f_st = fi + e0 * cos_minus_one + b * sin_t
-    margin = min(mu_s * p0 - abs(fi), mu_s * p1 - abs(f_st))
-    stick_low = margin - mu_s * d2_8 - theta2_8 * (abs(e0) + abs(b))
-    # Slip: the rigid law; its stop function s u̇ at the ends.
-    skm = s * km
-    v_sl = vi + (h * fm - skm * h_int)
-    x_sl = xi + (h * vi + h2_half * fm - skm * h2_kint)
-    q = mu_k * inv_kt_h
-    g_ends = min(s * vi - q * rate0, s * v_sl - q * rate1)
-    slip_low = g_ends - km * h_d1_8 - q * d3_8
-    stick = s == 0.0
-    landing = s * s > 1.5  # flight (mode 2): the touchdown is applied alone
-    flag = (stick & (stick_low <= 0.0)) | ((s != 0.0) & (slip_low <= 0.0)) | landing
-    x1 = x_st if stick else x_sl
-    v1 = v_st if stick else v_sl
-    f1 = f_st if stick else s * mu_k * p1
-    return flag, x1, v1, f1
 
 
 @njit(cache=True)
@@ -125,30 +86,6 @@ def starts_in_flight(c, y0, ydot0):
 def flight_step(x, v, fm, h):
     """(x, ẋ) after a piece of length h [s] in flight: f = 0, m ẍ = F."""
     return x + (h * v + 0.5 * h * h * fm), v + h * fm
-
-
-@njit(cache=True, error_model="numpy")
-def _vector_pass(lanes, n, a, piece, h_int, h2_kint):
-    """A contact piece for every lane as if it held no switch (:func:`free_piece`),
-    vectorised; a flagged lane keeps its state. Returns the number flagged and the first
-    of them (n if none): the lanes a piece switches are few and close together in force
-    order, and the search for them starts there."""
-    k = piece_constants(a, piece, h_int, h2_kint)
-    n_flagged = 0
-    first = n
-    for i in range(n):
-        xi, vi, fi = lanes[X, i], lanes[V, i], lanes[FS, i]
-        flag, x1, v1, f1 = free_piece(
-            k, lanes[MODE, i], xi, vi, fi, lanes[FORCE, i], lanes[FM, i], lanes[KM, i],
-            lanes[MU_S, i], lanes[MU_K, i],
-        )  # fmt: skip
-        lanes[FLAG, i] = 1.0 if flag else 0.0
-        lanes[X, i] = xi if flag else x1
-        lanes[V, i] = vi if flag else v1
-        lanes[FS, i] = fi if flag else f1
-        n_flagged += 1 if flag else 0
-        first = min(first, i if flag else n)
-    return n_flagged, first
 
 
 @njit(cache=True, error_model="numpy")
@@ -185,6 +122,83 @@ def fly(lanes, n, h, flying):
 
 
 @njit(cache=True)
+def _rows(tape, r0, r1, lanes, n, piece, flying, switches, flagged):
+    """Lanes [0, n) through rows [r0, r1) of ``tape`` one row at a time, in place
+    (``piece`` holds the set-up's spring; ``flying`` where the row before was in flight).
+    Returns (status, flying)."""
+    for r in range(r0, r1):
+        h = tape[r, nt.H]
+        a = nt.coefficients(tape, r)
+        if flight_piece(a):
+            fly(lanes, n, h, flying)
+            flying = True
+            continue
+        flying = False  # a lane that lands is flagged: the piece applies the touchdown
+        set_piece(piece, a, h)
+        n_flagged, first = vector_pass(
+            lanes, n, a, piece, h * tape[r, nt.INT1], h * h * tape[r, nt.KINT1]
+        )
+        for i in range(first, n):
+            if n_flagged == 0:
+                break
+            if lanes[FLAG, i] != 0.0:
+                n_flagged -= 1
+                flagged[i] += 1
+                xi, vi, fi, mi, k = lane_piece(
+                    a, piece, lanes[FORCE, i], lanes[FM, i], lanes[KM, i], lanes[MU_S, i],
+                    lanes[MU_K, i], lanes[X, i], lanes[V, i], lanes[FS, i], lanes[MODE, i],
+                )  # fmt: skip
+                if k < 0:
+                    return LANE_STALLED, flying
+                switches[i] += k
+                lanes[X, i], lanes[V, i], lanes[FS, i], lanes[MODE, i] = xi, vi, fi, mi
+    return OK, flying
+
+
+@njit(cache=True)
+def _spans(tape, n_rows, lanes, n, piece, flying, switches, flagged, sub, columns, counts):
+    """Lanes [0, n) through rows [0, n_rows) of ``tape``, SPAN_ROWS rows at a time from
+    its start (module doc), in place: a lane that sticks throughout a span takes it as
+    one turn of its oscillator (:func:`_span_pass`), the others go through its rows one
+    by one (:func:`_rows`) on a compact copy (``sub``, ``columns``, ``counts``: scratch
+    for n lanes). Returns (status, flying)."""
+    omega, k_t, mass = piece[P_OMEGA], piece[P_KT], piece[P_MASS]
+    for b0 in range(0, n_rows, SPAN_ROWS):
+        b1 = min(b0 + SPAN_ROWS, n_rows)
+        length, _, _, p_min, _ = nt.span(tape, b0, b1)
+        n_flagged, last = n, n - 1
+        if p_min > 0.0:  # no flight in the span
+            n_flagged, last = span_pass(lanes, n, span_constants(omega, k_t, mass, length), p_min)
+        if n_flagged == n:  # no lane took the span: its rows for every lane, in place
+            status, flying = _rows(tape, b0, b1, lanes, n, piece, flying, switches, flagged)
+            if status != OK:
+                return status, flying
+            continue
+        flying = False
+        m = np.int64(0)  # the flagged lanes, in order, to the compact copy
+        for i in range(last + 1):
+            if m == n_flagged:
+                break
+            if lanes[FLAG, i] != 0.0:
+                columns[m] = i
+                for row in range(LANE_ROWS):
+                    sub[row, m] = lanes[row, i]
+                counts[0, m], counts[1, m] = 0, 0
+                m += 1
+        # Not in flight (a bool, not the literal False: _rows would compile for it too).
+        status, _ = _rows(tape, b0, b1, sub, m, piece, np.bool_(False), counts[0], counts[1])
+        if status != OK:
+            return status, flying
+        for j in range(m):
+            i = columns[j]
+            lanes[X, i], lanes[V, i], lanes[FS, i] = sub[X, j], sub[V, j], sub[FS, j]
+            lanes[MODE, i] = sub[MODE, j]
+            switches[i] += counts[0, j]
+            flagged[i] += counts[1, j]
+    return OK, flying
+
+
+@njit(cache=True)
 def _run_group(c, y0, ydot0, k_t, cycle, shape, t_end, dt, lanes, switches, flagged, stop,
                item):  # fmt: skip
     """One normal set-up and its lanes, in place; returns the status (STOPPED after a
@@ -197,6 +211,8 @@ def _run_group(c, y0, ydot0, k_t, cycle, shape, t_end, dt, lanes, switches, flag
     set_spring(piece, omega, k_t, mass, c[GRAVITY])
     flying = start_lanes(c, y0, ydot0, lanes, n)
     carry, tape, work = nt.tape_buffers(y0, ydot0)
+    sub, columns = np.empty((LANE_ROWS, n)), np.empty(n, dtype=np.int64)
+    counts = np.empty((2, n), dtype=np.int64)  # a compact copy's switches and flagged
     while True:
         if stop[0] != 0:
             return STOPPED
@@ -206,33 +222,11 @@ def _run_group(c, y0, ydot0, k_t, cycle, shape, t_end, dt, lanes, switches, flag
             rows, tape_status = nt.fill_tape(carry, c, t_end, dt, tape, work)
         if tape_status > 1:
             return tape_status
-        for r in range(rows):
-            h = tape[r, nt.H]
-            a = nt.coefficients(tape, r)
-            if flight_piece(a):
-                fly(lanes, n, h, flying)
-                flying = True
-                continue
-            flying = False  # a lane that lands is flagged: the piece applies the touchdown
-            set_piece(piece, a, h)
-            n_flagged, first = _vector_pass(
-                lanes, n, a, piece, h * tape[r, nt.INT1], h * h * tape[r, nt.KINT1]
-            )
-            for i in range(first, n):
-                if n_flagged == 0:
-                    break
-                if lanes[FLAG, i] != 0.0:
-                    n_flagged -= 1
-                    flagged[i] += 1
-                    xi, vi, fi, mi, k = lane_piece(
-                        a, piece, lanes[FORCE, i], lanes[FM, i], lanes[KM, i],
-                        lanes[MU_S, i], lanes[MU_K, i], lanes[X, i], lanes[V, i],
-                        lanes[FS, i], lanes[MODE, i],
-                    )  # fmt: skip
-                    if k < 0:
-                        return LANE_STALLED
-                    switches[i] += k
-                    lanes[X, i], lanes[V, i], lanes[FS, i], lanes[MODE, i] = xi, vi, fi, mi
+        status, flying = _spans(
+            tape, rows, lanes, n, piece, flying, switches, flagged, sub, columns, counts
+        )
+        if status != OK:
+            return status
         if rows > 0:
             threads.report(stop, item, (tape[rows - 1, nt.T0] + tape[rows - 1, nt.H]) / t_end)
         if tape_status == 0:

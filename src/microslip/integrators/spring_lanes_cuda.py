@@ -5,12 +5,15 @@ split as for the rigid lanes (:mod:`microslip.integrators.shared_lanes_cuda`, wh
 block pipeline this uses): the normal tapes on the CPU cores, one thread per lane on
 the GPU. Each thread runs the CPU kernel's own law over its set-up's pieces:
 :func:`~microslip.integrators.spring_lanes.flight_step` in flight (a lift-off relaxes the
-spring), :func:`~microslip.integrators.spring_lanes.free_piece` on a contact piece
+spring), :func:`~microslip.integrators.spring_pass.free_piece` on a contact piece
 without a switch (its piece constants computed by the thread itself, with
-:func:`~microslip.integrators.spring_lanes.piece_constants`), and
-:func:`~microslip.integrators.spring_lane_law.lane_piece` through the switches. The
-kernel (:func:`lanes_kernel`) takes the contact piece's law as a device function, and the
-Mindlin lanes (:mod:`~microslip.integrators.mindlin_lanes_cuda`) run it with theirs. A
+:func:`~microslip.integrators.spring_pass.piece_constants`), and
+:func:`~microslip.integrators.spring_lane_law.lane_piece` through the switches, and
+the CPU kernel's spans: a stuck lane takes a span of rows at once where
+:func:`~microslip.integrators.spring_pass.stuck_span` proves it stuck throughout
+(:func:`spring_span`; the blocks of tapes are whole spans). The kernel
+(:func:`lanes_kernel`) takes the contact piece's and the span's laws as device
+functions, and the Mindlin lanes (:mod:`~microslip.integrators.mindlin_lanes_cuda`) run it with theirs. A
 lane's result depends only on its parameters and its set-up's tape; the GPU's FMA contraction
 and its sine make the bits differ from the CPU kernel's by rounding, and under numba's
 CUDA simulator they are the CPU kernel's.
@@ -25,9 +28,11 @@ from numba import float64
 
 from microslip import _jit_cache  # noqa: F401  (registers the cache before any @njit)
 from microslip.integrators import normal_tape as nt
-from microslip.integrators.shared_lanes_cuda import cuda, cuda_unavailable, run_lanes
+from microslip.integrators.rigid_pass import SPAN_ROWS
+from microslip.integrators.shared_lanes_cuda import cuda, cuda_unavailable, run_lanes, span_rows
 from microslip.integrators.spring_lane_law import FLIGHT, PIECE, lane_piece, set_piece, set_spring
-from microslip.integrators.spring_lanes import (
+from microslip.integrators.spring_lanes import flight_step, pack_lanes, starts_in_flight
+from microslip.integrators.spring_pass import (
     FM,
     FORCE,
     FS,
@@ -37,11 +42,10 @@ from microslip.integrators.spring_lanes import (
     MU_S,
     V,
     X,
-    flight_step,
     free_piece,
-    pack_lanes,
     piece_constants,
-    starts_in_flight,
+    span_constants,
+    stuck_span,
 )
 from microslip.integrators.tape_row import flight_piece
 from microslip.model.coefficients import GRAVITY, MASS
@@ -51,7 +55,7 @@ S_OMEGA, S_KT, S_MASS, S_GRAVITY = range(4)
 STALLED, COARSE = -1, -2  # a contact piece's switch count when the lane cannot go on
 
 
-def lanes_kernel(setup_lane, contact_piece, scratch_size):
+def lanes_kernel(setup_lane, contact_piece, span_piece, scratch_size):
     """A CUDA kernel of compliant lanes, one thread per lane through its set-up's pieces
     as :func:`~microslip.integrators.spring_lanes.run_spring_lanes` (a lift-off relaxes
     the spring, :func:`~microslip.integrators.spring_lanes.flight_step` in flight), with
@@ -76,30 +80,41 @@ def lanes_kernel(setup_lane, contact_piece, scratch_size):
         in_air = flying[i] != 0
         n_switches = 0
         n_flagged = 0
-        for r in range(rows[g]):
-            h = tapes[g, r, nt.H]
-            a = (
-                tapes[g, r, nt.A0], tapes[g, r, nt.A1], tapes[g, r, nt.A2], tapes[g, r, nt.A3],
-                tapes[g, r, nt.A4],
-            )  # fmt: skip
-            if flight_piece(a):
-                if not in_air:  # lift-off: the spring relaxes (f = 0, u = x)
-                    mode, f = FLIGHT, 0.0
-                in_air = True
-                x, v = flight_step(x, v, fm, h)
-                continue
-            in_air = False  # a lane that lands is flagged: the piece applies the touchdown
-            flag, n, x, v, f, mode = contact_piece(
-                tapes, g, r, a, h, setups, pieces, scratch, force, fm, km, mu_s, mu_k, x, v, f,
-                mode,
-            )  # fmt: skip
-            if flag:
-                n_flagged += 1
-            if n < 0:
-                if n == STALLED:
-                    stalled[i] = 1
+        ended = False
+        for r0 in range(0, rows[g], SPAN_ROWS):  # the CPU kernel's spans (blocks of whole spans)
+            r1 = min(r0 + SPAN_ROWS, rows[g])
+            if mode == 0.0:
+                stuck, x1, v1, f1 = span_piece(tapes, g, r0, r1, setups, force, mu_s, x, v, f)
+                if stuck:  # stuck throughout: one turn of the oscillator
+                    x, v, f = x1, v1, f1
+                    continue
+            for r in range(r0, r1):
+                h = tapes[g, r, nt.H]
+                a = (
+                    tapes[g, r, nt.A0], tapes[g, r, nt.A1], tapes[g, r, nt.A2],
+                    tapes[g, r, nt.A3], tapes[g, r, nt.A4],
+                )  # fmt: skip
+                if flight_piece(a):
+                    if not in_air:  # lift-off: the spring relaxes (f = 0, u = x)
+                        mode, f = FLIGHT, 0.0
+                    in_air = True
+                    x, v = flight_step(x, v, fm, h)
+                    continue
+                in_air = False  # a lane that lands is flagged: the piece applies the touchdown
+                flag, n, x, v, f, mode = contact_piece(
+                    tapes, g, r, a, h, setups, pieces, scratch, force, fm, km, mu_s, mu_k, x, v,
+                    f, mode,
+                )  # fmt: skip
+                if flag:
+                    n_flagged += 1
+                if n < 0:
+                    if n == STALLED:
+                        stalled[i] = 1
+                    ended = True
+                    break
+                n_switches += n
+            if ended:
                 break
-            n_switches += n
         lanes[X, i], lanes[V, i], lanes[FS, i], lanes[MODE, i] = x, v, f, mode
         flying[i] = 1 if in_air else 0
         switches[i] += n_switches
@@ -119,7 +134,7 @@ def spring_piece(tapes, g, r, a, h, setups, pieces, piece, force, fm, km, mu_s, 
                  mode):  # fmt: skip
     """A spring lane over contact piece r of set-up g (``contact_piece`` of
     :func:`lanes_kernel`, compiled as a device function): the CPU kernel's closed form
-    where the piece holds no switch (:func:`~microslip.integrators.spring_lanes.free_piece`),
+    where the piece holds no switch (:func:`~microslip.integrators.spring_pass.free_piece`),
     else :func:`~microslip.integrators.spring_lane_law.lane_piece`; ``piece`` is the
     thread's scratch (its spring written by :func:`spring_setup`), ``setups`` and
     ``pieces`` unused. (A device function, not ``@njit``: under the simulator it gets
@@ -133,10 +148,32 @@ def spring_piece(tapes, g, r, a, h, setups, pieces, piece, force, fm, km, mu_s, 
     return True, n, x, v, f, mode
 
 
+def spring_span(tapes, g, r0, r1, setups, force, mu_s, x, v, f):
+    """A stuck spring lane over rows [r0, r1) of set-up g's tape as one turn of its
+    oscillator (``span_piece`` of :func:`lanes_kernel`): (stuck, x [m], ẋ [m/s], f [N])
+    of :func:`~microslip.integrators.spring_pass.stuck_span`, the span summed by
+    :func:`~microslip.integrators.normal_tape.extend_span` in row order as on the CPU."""
+    span = nt.EMPTY_SPAN
+    for r in range(r0, r1):
+        span = nt.extend_span(
+            span, tapes[g, r, nt.H], tapes[g, r, nt.INT1], tapes[g, r, nt.KINT1],
+            tapes[g, r, nt.PMIN], tapes[g, r, nt.PMAX],
+        )  # fmt: skip
+    length, p_min = span[0], span[3]
+    k = span_constants(setups[g, S_OMEGA], setups[g, S_KT], setups[g, S_MASS], length)
+    return stuck_span(k, p_min, 0.0, x, v, f, force, mu_s)
+
+
+def no_span(tapes, g, r0, r1, setups, force, mu_s, x, v, f):
+    """``span_piece`` of :func:`lanes_kernel` for lanes that take every row alone (the
+    Mindlin lanes: their stick depends on N)."""
+    return False, x, v, f
+
+
 @functools.cache
 def _kernel():
     device = cuda.jit(device=True)
-    return lanes_kernel(device(spring_setup), device(spring_piece), PIECE)
+    return lanes_kernel(device(spring_setup), device(spring_piece), device(spring_span), PIECE)
 
 
 def start_lanes(normal_coeffs, normal_states0, lanes, starts):
@@ -177,8 +214,9 @@ def run_spring_lanes_cuda(normal_coeffs, normal_states0, stiffness, group_of_lan
     lane_group, flying = start_lanes(normal_coeffs, states0, lanes, starts)
     return run_lanes(
         _kernel(), "spring-lane kernel (CUDA)", normal_coeffs, states0, lanes, lane_group,
-        t_end, dt, tape_rows, before=(setups, np.zeros((1, 1, 1))), after=(flying,),
-        periods=periods, results=lane_results,
+        t_end, dt, span_rows(normal_coeffs.shape[0], tape_rows),
+        before=(setups, np.zeros((1, 1, 1))), after=(flying,), periods=periods,
+        results=lane_results,
     )  # fmt: skip
 
 
