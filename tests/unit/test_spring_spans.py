@@ -66,10 +66,11 @@ def _least_margin(tape, b0, b1, x0, v0, f0, force):
 @pytest.mark.parametrize("amplitude", [0.0, 0.3e-7, 1.5e-7])
 def test_a_lane_that_takes_a_span_sticks_throughout_it(amplitude):
     """Lanes pushed either way whose spring force peaks near μ_s times the span's
-    least N, the peak inside the span or just outside it: each one that stuck_span lets through stays
-    within the limit at every sampled instant, its end state is the closed form's, and
-    the cases straddle the bound (some let through within 2% of it, some refused
-    that do stay stuck: the proof is not loose by more than its curvature term)."""
+    least N, the peak inside the span or just outside it: each one that stuck_span lets
+    through stays within the limit at every sampled instant, its end state is the closed
+    form's, and the cases straddle the bound (some let through within 2% of it, some
+    refused that do stay stuck). At A = 0 (N constant) a proof without its curvature
+    term lets through lanes whose force peaks past the limit inside the span."""
     tape = _free_tape(amplitude)
     rng = np.random.default_rng(7)
     taken, refused_but_stuck, tight = 0, 0, 0

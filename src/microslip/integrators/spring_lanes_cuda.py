@@ -13,10 +13,10 @@ the CPU kernel's spans: a stuck lane takes a span of rows at once where
 :func:`~microslip.integrators.spring_pass.stuck_span` proves it stuck throughout
 (:func:`spring_span`; the blocks of tapes are whole spans). The kernel
 (:func:`lanes_kernel`) takes the contact piece's and the span's laws as device
-functions, and the Mindlin lanes (:mod:`~microslip.integrators.mindlin_lanes_cuda`) run it with theirs. A
-lane's result depends only on its parameters and its set-up's tape; the GPU's FMA contraction
-and its sine make the bits differ from the CPU kernel's by rounding, and under numba's
-CUDA simulator they are the CPU kernel's.
+functions, and the Mindlin lanes (:mod:`~microslip.integrators.mindlin_lanes_cuda`) run
+it with theirs. A lane's result depends only on its parameters and its set-up's tape;
+the GPU's FMA contraction and its sine make the bits differ from the CPU kernel's by
+rounding, and under numba's CUDA simulator they are the CPU kernel's.
 """
 
 from __future__ import annotations
