@@ -157,8 +157,7 @@ def _window_lane(lanes, switches, flagged, i, c_full, t_a, y_a, ydot_a, landing,
     MAX_SWITCHES_PER_STEP switches in a step), its state then left as it was."""
     s, trial, piece = scratch[0], scratch[1], scratch[2]
     extremum, s1, atol = scratch[3], scratch[4], scratch[5]
-    work = scratch[6:]
-    atol[:] = 0.0  # unused by RK4
+    work = scratch[6:]  # atol: unused by RK4 (zeros, as window_buffers made it)
     c = _lane_coefficients(c_full, lanes, i)
     s[Y], s[YDOT], s[STATE_X], s[XDOT] = y_a, ydot_a, lanes[X, i], lanes[V, i]
     s[U], s[FT] = lanes[X, i], lanes[FS, i]
