@@ -30,7 +30,7 @@ LANE_STALLED = 5  # a lane switched more than MAX_SWITCHES_PER_STEP times in one
 
 # Rows of the lane array of a group (one array: a compiled call counts each array
 # argument once, so the per-piece pass takes one).
-FM, KM, N_RELEASE, N_BALANCE, DIRECTION, X, V, MODE, FLAG = range(9)
+FM, KM, N_RELEASE, N_BALANCE, DIRECTION, X, V, MODE, FLAG = range(9)  # FLAG last
 LANE_ROWS = 9
 # Rows the vector pass takes as one piece (normal_tape.span): a lane that does not switch
 # in them is advanced once instead of once a row; 1: row by row. A divisor of
@@ -89,6 +89,25 @@ def _releasable(lanes, n, p_min):
 
 
 @njit(cache=True)
+def gather_flagged(lanes, last, n_flagged, sub, columns):
+    """Copy the ``n_flagged`` flagged lanes among lanes [0, last] (a lane array whose last
+    row is its flag: the rigid, spring and Mindlin lanes' FLAG), in their order, to the
+    first columns of ``sub``, and their indices to ``columns``; returns their number (an
+    int64, never a literal: the row passes it goes to would compile for one)."""
+    flag = lanes.shape[0] - 1
+    m = np.int64(0)
+    for i in range(last + 1):
+        if m == n_flagged:
+            break
+        if lanes[flag, i] != 0.0:
+            columns[m] = i
+            for row in range(lanes.shape[0]):
+                sub[row, m] = lanes[row, i]
+            m += 1
+    return m
+
+
+@njit(cache=True)
 def lanes_over_rows(tape, r0, r1, lanes, n, n_active, switches, flagged):
     """Lanes [0, n) (sorted by decreasing |F|/μ_s) through rows [r0, r1) of ``tape``,
     in place: only lanes [0, n_active) can be moving (past it every lane sticks; see
@@ -106,17 +125,10 @@ def lanes_over_rows(tape, r0, r1, lanes, n, n_active, switches, flagged):
         length, h_int, h2_kint, p_min, p_max = nt.span(tape, b0, b1)
         n_range = max(n_active, _releasable(lanes, n, p_min))
         n_flagged, last = _vector_pass(lanes, n_range, length, h_int, h2_kint, p_min, p_max)
-        m = np.int64(0)  # not a literal 0: rows_one_by_one would compile for it too
-        for i in range(last + 1):  # the flagged lanes, in order, to a compact copy
-            if m == n_flagged:
-                break
-            if lanes[FLAG, i] != 0.0:
-                columns[m] = i
-                for row in range(LANE_ROWS):
-                    sub[row, m] = lanes[row, i]
-                sub_switches[m] = 0
-                sub_flagged[m] = 0
-                m += 1
+        m = gather_flagged(lanes, last, n_flagged, sub, columns)
+        for j in range(m):
+            sub_switches[j] = 0
+            sub_flagged[j] = 0
         if m > 0:
             status, _ = rows_one_by_one(tape, b0, b1, sub, m, m, sub_switches, sub_flagged)
             if status != OK:

@@ -34,7 +34,7 @@ from microslip import _jit_cache  # noqa: F401  (registers the cache before any 
 from microslip.integrators import normal_tape as nt
 from microslip.integrators import periodic_tape, threads
 from microslip.integrators.kernel import as_tuple
-from microslip.integrators.rigid_pass import SPAN_ROWS
+from microslip.integrators.rigid_pass import SPAN_ROWS, gather_flagged
 from microslip.integrators.setup_copies import SetupCopies
 from microslip.integrators.shared_lanes import (
     LANE_STALLED,
@@ -175,16 +175,9 @@ def _spans(tape, n_rows, lanes, n, piece, flying, switches, flagged, sub, column
                 return status, flying
             continue
         flying = False
-        m = np.int64(0)  # the flagged lanes, in order, to the compact copy
-        for i in range(last + 1):
-            if m == n_flagged:
-                break
-            if lanes[FLAG, i] != 0.0:
-                columns[m] = i
-                for row in range(LANE_ROWS):
-                    sub[row, m] = lanes[row, i]
-                counts[0, m], counts[1, m] = 0, 0
-                m += 1
+        m = gather_flagged(lanes, last, n_flagged, sub, columns)
+        for j in range(m):
+            counts[0, j], counts[1, j] = 0, 0
         # Not in flight (a bool, not the literal False: _rows would compile for it too).
         status, _ = _rows(tape, b0, b1, sub, m, piece, np.bool_(False), counts[0], counts[1])
         if status != OK:

@@ -41,7 +41,7 @@ from microslip.integrators.spring_lane_law import (
 )
 
 # Rows of the lane array of a group.
-FORCE, FM, KM, MU_S, MU_K, X, V, FS, MODE, FLAG = range(10)
+FORCE, FM, KM, MU_S, MU_K, X, V, FS, MODE, FLAG = range(10)  # FLAG last (gather_flagged)
 LANE_ROWS = 10
 
 
