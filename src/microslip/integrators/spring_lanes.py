@@ -159,9 +159,9 @@ def _rows(tape, r0, r1, lanes, n, piece, flying, switches, flagged):
 def _spans(tape, n_rows, lanes, n, piece, flying, switches, flagged, sub, columns, counts):
     """Lanes [0, n) through rows [0, n_rows) of ``tape``, SPAN_ROWS rows at a time from
     its start (module doc), in place: a lane that sticks throughout a span takes it as
-    one turn of its oscillator (:func:`_span_pass`), the others go through its rows one
-    by one (:func:`_rows`) on a compact copy (``sub``, ``columns``, ``counts``: scratch
-    for n lanes). Returns (status, flying)."""
+    one turn of its oscillator (:func:`~microslip.integrators.spring_pass.span_pass`),
+    the others go through its rows one by one (:func:`_rows`) on a compact copy
+    (``sub``, ``columns``, ``counts``: scratch for n lanes). Returns (status, flying)."""
     omega, k_t, mass = piece[P_OMEGA], piece[P_KT], piece[P_MASS]
     for b0 in range(0, n_rows, SPAN_ROWS):
         b1 = min(b0 + SPAN_ROWS, n_rows)
@@ -174,7 +174,7 @@ def _spans(tape, n_rows, lanes, n, piece, flying, switches, flagged, sub, column
             if status != OK:
                 return status, flying
             continue
-        flying = False
+        flying = False  # a lane stuck throughout the span: no row of it is in flight
         m = gather_flagged(lanes, last, n_flagged, sub, columns)
         for j in range(m):
             counts[0, j], counts[1, j] = 0, 0
