@@ -152,7 +152,9 @@ def spring_span(tapes, g, r0, r1, setups, force, mu_s, x, v, f):
     """A stuck spring lane over rows [r0, r1) of set-up g's tape as one turn of its
     oscillator (``span_piece`` of :func:`lanes_kernel`): (stuck, x [m], ẋ [m/s], f [N])
     of :func:`~microslip.integrators.spring_pass.stuck_span`, the span summed by
-    :func:`~microslip.integrators.normal_tape.extend_span` in row order as on the CPU."""
+    :func:`~microslip.integrators.normal_tape.extend_span` in row order as on the CPU.
+    (The loop is ``nt.span``'s, as in the rigid lanes' ``lane_span``: under numba's CUDA
+    simulator a compiled function cannot take the kernel's arrays.)"""
     span = nt.EMPTY_SPAN
     for r in range(r0, r1):
         span = nt.extend_span(
