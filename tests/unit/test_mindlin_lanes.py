@@ -221,6 +221,9 @@ def test_pieces_written_once_per_cycle_row_give_the_bits_of_writing_them_as_serv
     from microslip.integrators import mindlin_lanes as ml
     from microslip.integrators import mindlin_windows as mw
     from microslip.integrators import periodic_tape
+    from microslip.integrators.mindlin_spans import stepped_spans
+    from microslip.integrators.rigid_pass import SPAN_ROWS
+    from microslip.integrators.spring_pass import LANE_ROWS
 
     duration = 4.6 * P.natural_period
     y0, ydot0, cycle, shape = _repeated_set_up(amplitude, duration)
@@ -237,16 +240,18 @@ def test_pieces_written_once_per_cycle_row_give_the_bits_of_writing_them_as_serv
     assert status == 0 and switches.sum() > 10
     served, served_switches, served_flagged = lanes()
     flying = ml.start_lanes(C, y0, ydot0, served, forces.size)
-    piece = np.zeros((1, law.PIECE))
-    law.set_setup(piece[0], P.mass, P.g, RATIO)
+    pieces = np.zeros((SPAN_ROWS, law.PIECE))  # each span's pieces, written as served
+    for j in range(SPAN_ROWS):
+        law.set_setup(pieces[j], P.mass, P.g, RATIO)
+    n = forces.size
+    scratch = (np.empty((LANE_ROWS, n)), np.empty(n, np.int64), np.empty((2, n), np.int64))
     carry, tape, _work = nt.tape_buffers(y0, ydot0)
     tape_status = 1
     while tape_status == 1:
         rows, tape_status = periodic_tape.repeat_rows(carry, tape, cycle, shape)
         window = mw.window_buffers(C, RATIO)
-        status, flying = ml._run_rows(served, tape, 0, rows, piece, False, -1, C, flying,
-                                      served_switches, served_flagged, window, rows,
-                                      tape_status == 0, DT, True)  # fmt: skip
+        status, flying = stepped_spans(served, tape, rows, pieces, C, flying, served_switches,
+                                       served_flagged, window, DT, True, scratch)  # fmt: skip
         assert status == 0
     assert np.array_equal(cached, served)
     assert np.array_equal(switches, served_switches) and np.array_equal(flagged, served_flagged)

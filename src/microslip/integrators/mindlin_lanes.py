@@ -10,7 +10,11 @@ bounds its switching function (:mod:`~microslip.integrators.mindlin_pass`), and 
 lanes share (the quartics k_t(τ), R(τ) = Ṅ/k_t and the stick's fundamental matrix Φ)
 is computed once per piece (:func:`~microslip.integrators.mindlin_lane_law.set_piece`;
 on a repeated tape once per row of the cycle, for every period), so a stuck lane costs
-a 2x2 matrix product and a sliding one the rigid law.
+a 2x2 matrix product and a sliding one the rigid law. At the exponents below whose
+flights the closed form crosses, the rows go by spans
+(:mod:`~microslip.integrators.mindlin_spans`): a lane stuck throughout a span takes the
+product of its rows' Φ at once; the rows themselves go by
+:func:`~microslip.integrators.mindlin_rows.run_rows`.
 
 A lane's arithmetic depends only on its own parameters and its set-up's tape (no
 fastmath): the same bits whatever the other lanes, their order or the threads.
@@ -47,8 +51,20 @@ from microslip.integrators import mindlin_windows as windows
 from microslip.integrators import normal_tape as nt
 from microslip.integrators import periodic_tape, threads
 from microslip.integrators.kernel import as_tuple
-from microslip.integrators.mindlin_pass import vector_pass
 from microslip.integrators.mindlin_piece import piece_table
+from microslip.integrators.mindlin_rows import (
+    FINAL,
+    LEFT_ROUGH_CONTACT,
+    NO_COARSE_ROW,
+    NOT_CACHED,
+    NOT_FINAL,
+    STEP_TOO_COARSE,
+    TABLE,
+    run_rows,
+    supports_exponent,
+)
+from microslip.integrators.mindlin_spans import periodic_spans, stepped_spans
+from microslip.integrators.rigid_pass import SPAN_ROWS
 from microslip.integrators.shared_lanes import (
     FIRST_ROW,
     OK,
@@ -58,26 +74,18 @@ from microslip.integrators.shared_lanes import (
     take_group,
 )
 from microslip.integrators.spring_lanes import (
-    FLAG,
-    FM,
-    FORCE,
     FS,
-    KM,
+    LANE_ROWS,
     MODE,
-    MU_K,
-    MU_S,
     V,
     X,
     copied_setups,
-    fly,
     pack_lanes,
     start_lanes,
 )
-from microslip.integrators.tape_row import flight_piece, has_flight
+from microslip.integrators.tape_row import has_flight
 from microslip.model.coefficients import EXPONENT, GRAVITY, MASS
 
-STEP_TOO_COARSE = 7  # a set-up's status: θ = h sqrt(k_t/m) > MAX_THETA on a piece
-LEFT_ROUGH_CONTACT = 8  # a set-up's status: a flight at an m2 outside supports_exponent
 # The set-ups the Mindlin lanes hand back whole; a lane that stalls goes back alone, with
 # ``LaneStalledError.lanes`` (CPU and GPU lanes).
 HANDED_BACK = {
@@ -87,29 +95,27 @@ HANDED_BACK = {
 
 
 @njit(cache=True)
-def supports_exponent(m2):
-    """True for the contact exponents m2 [-] whose set-ups this kernel runs through a
-    flight: 1, 2 and >= 3 (module doc)."""
-    return m2 == 1.0 or m2 == 2.0 or m2 >= 3.0
-
-
-@njit(cache=True)
 def _run_group(c, y0, ydot0, ratio, cycle, shape, t_end, dt, lanes, switches, flagged, stop,
                item, windowed):  # fmt: skip
     """One normal set-up and its lanes, in place; returns the status. On a repeated tape
     (``shape``: period rows, tail rows, repeats, T) each row's piece is written once
     (:func:`~microslip.integrators.mindlin_piece.piece_table`) and read every period: a
     free vibration's pieces are the same every period, and set_piece is most of a
-    set-up's own cost. Returns STOPPED after a period or a block of tape once
-    ``stop[0]`` is set (:func:`threads.stop_flag`), and reports its progress there as
-    ``item`` (:func:`threads.report`). Where ``windowed``, a set-up of an m2 outside
-    :func:`supports_exponent` crosses its flights by windows
-    (:mod:`~microslip.integrators.mindlin_windows`); a stepped tape is then filled
-    PEEK_ROWS rows ahead of each block, where a window may end."""
+    set-up's own cost. At an m2 that :func:`supports_exponent` the rows go by spans
+    (:mod:`~microslip.integrators.mindlin_spans`), else one by one
+    (:func:`~microslip.integrators.mindlin_rows.run_rows`), and where ``windowed`` the
+    set-up crosses its flights by windows (:mod:`~microslip.integrators.mindlin_windows`;
+    a stepped tape is then filled PEEK_ROWS rows ahead of each block, where a window may
+    end). Returns STOPPED after a period, a span or a block of tape once ``stop[0]`` is
+    set (:func:`threads.stop_flag`), and reports its progress there as ``item``
+    (:func:`threads.report`)."""
     n = lanes.shape[1]
     flying = start_lanes(c, y0, ydot0, lanes, n)
     laws = as_tuple(c)  # the coefficients as the pieces' laws take them, once per set-up
     window = windows.window_buffers(c, ratio)
+    rough = not supports_exponent(laws[EXPONENT])
+    # A compact copy of the lanes a span flags, their indices, switches and flagged.
+    scratch = (np.empty((LANE_ROWS, n)), np.empty(n, np.int64), np.empty((2, n), np.int64))
     if shape[0] > 0:
         period_rows, tail_rows, repeats, period = shape
         total = period_rows + tail_rows
@@ -118,24 +124,31 @@ def _run_group(c, y0, ydot0, ratio, cycle, shape, t_end, dt, lanes, switches, fl
         coarse = piece_table(table, cycle, total, laws, ratio)
         # A period in contact throughout needs no window (nor a look-ahead past its end).
         windowed = windowed and has_flight(cycle, total)
+        if not rough:
+            return periodic_spans(
+                lanes, cycle, shape, table, coarse, laws, flying, switches, flagged, window,
+                step, windowed, scratch, stop, item,
+            )[0]  # fmt: skip
         for k in range(repeats):
             if stop[0] != 0:
                 return STOPPED
             windows.reset_windows(window)  # each period's times are the first one's
-            status, flying = _run_rows(
-                lanes, cycle, FIRST_ROW, period_rows, table, CACHED, coarse, laws, flying,
+            status, flying = run_rows(
+                lanes, n, cycle, FIRST_ROW, period_rows, table, TABLE, coarse, laws, flying,
                 switches, flagged, window, period_rows, NOT_FINAL, step, windowed,
             )  # fmt: skip
             if status != OK:
                 return status
             threads.report(stop, item, (k + 1) / (repeats + 1))
         windows.reset_windows(window)  # the tail's times start at 0 too
-        return _run_rows(
-            lanes, cycle, period_rows, total, table, CACHED, coarse, laws, flying, switches,
+        return run_rows(
+            lanes, n, cycle, period_rows, total, table, TABLE, coarse, laws, flying, switches,
             flagged, window, total, FINAL, step, windowed,
         )[0]  # fmt: skip
-    piece = np.zeros((1, law.PIECE))  # written row by row, as the tape is filled
-    law.set_setup(piece[0], c[MASS], c[GRAVITY], ratio)
+    # Rough: each row's piece written into pieces[0] as it comes; else a span's pieces.
+    pieces = np.zeros((SPAN_ROWS, law.PIECE))
+    for j in range(SPAN_ROWS):
+        law.set_setup(pieces[j], c[MASS], c[GRAVITY], ratio)
     carry, _, work = nt.tape_buffers(y0, ydot0)
     # The rows of a block and up to PEEK_ROWS after it, where a window may end.
     sight = np.empty((nt.TAPE_ROWS + windows.PEEK_ROWS, nt.ROW))
@@ -147,116 +160,27 @@ def _run_group(c, y0, ydot0, ratio, cycle, shape, t_end, dt, lanes, switches, fl
         if tape_status > 1:
             return tape_status
         in_sight, final = rows, tape_status == 0
-        if windowed and not final and not supports_exponent(laws[EXPONENT]):
+        if windowed and not final and rough:
             ahead = carry.copy()
             peeked, peek_status = nt.fill_tape(
                 ahead, c, t_end, dt, sight[rows : rows + windows.PEEK_ROWS], work
             )
             in_sight, final = rows + peeked, peek_status == 0
-        status, flying = _run_rows(
-            lanes, sight, FIRST_ROW, rows, piece, NOT_CACHED, NO_COARSE_ROW, laws, flying,
-            switches, flagged, window, in_sight, final, dt, windowed,
-        )  # fmt: skip
+        if rough:
+            status, flying = run_rows(
+                lanes, n, sight, FIRST_ROW, rows, pieces, NOT_CACHED, NO_COARSE_ROW, laws,
+                flying, switches, flagged, window, in_sight, final, dt, windowed,
+            )  # fmt: skip
+        else:
+            status, flying = stepped_spans(
+                lanes, tape, rows, pieces, laws, flying, switches, flagged, window, dt,
+                windowed, scratch,
+            )  # fmt: skip
         if status != OK:
             return status
         threads.report(stop, item, carry[nt.C_T] / t_end)
         if tape_status == 0:
             return OK
-
-
-# The flags and codes of _run_rows as NumPy scalars, not literals, which would compile it
-# once per value (docs/design.md).
-CACHED = np.bool_(True)
-NOT_CACHED = np.bool_(False)
-FINAL = np.bool_(True)
-NOT_FINAL = np.bool_(False)
-NO_COARSE_ROW = np.int64(-1)
-
-
-@njit(cache=True)
-def _run_rows(lanes, rows, lo, hi, pieces, cached, coarse, laws, flying, switches, flagged,
-              window, in_sight, final, dt, windowed):  # fmt: skip
-    """The lanes over tape rows [lo, hi) of ``rows``, in place: a row in flight moves
-    them all (:func:`~microslip.integrators.spring_lanes.fly`), a contact row takes the
-    vector pass and the law for the lanes it flags. A contact row's piece is
-    pieces[r] where ``cached`` (``coarse``: the first row too coarse), else written into
-    pieces[0] here from ``laws``, the coefficient tuple. At an m2 outside
-    :func:`supports_exponent` the lanes cross each lift-off and touchdown by a window
-    (:func:`~microslip.integrators.mindlin_windows.cross`: ``window`` its buffers, rows
-    [0, ``in_sight``) in sight, ``final`` where they end the run, ``dt`` [s] the rows'
-    grid step), where ``windowed``; at each grid point in contact it looks a few rows
-    ahead for a lift-off to start one at. Returns (status, whether the lanes are in
-    flight); LEFT_ROUGH_CONTACT where a window does not fit the rows in sight."""
-    n = lanes.shape[1]
-    rough = not supports_exponent(laws[EXPONENT])
-    for r in range(lo, hi):
-        h = rows[r, nt.H]
-        a = nt.coefficients(rows, r)
-        in_flight = flight_piece(a)
-        if rough and not windowed:
-            if in_flight:
-                return LEFT_ROUGH_CONTACT, flying
-        elif rough:
-            t0 = rows[r, nt.T0]
-            if windows.integrated_ahead(window, t0):
-                continue
-            r_switch = -1
-            if in_flight != flying:
-                if in_flight:  # a lift-off not seen coming (rows out of sight)
-                    return LEFT_ROUGH_CONTACT, flying
-                r_switch = r  # a touchdown
-            elif not in_flight and windows.on_grid(t0, dt):
-                r_switch = windows.lift_off_ahead(rows, r, in_sight, dt)
-                if r_switch == -2 and not final:
-                    return LEFT_ROUGH_CONTACT, flying
-            if r_switch >= 0:
-                done, flying = windows.cross(
-                    window, lanes, switches, flagged, rows, r, r_switch, in_sight, final, dt
-                )
-                if not done:
-                    return LEFT_ROUGH_CONTACT, flying
-                continue
-        if in_flight:
-            fly(lanes, n, h, flying)
-            flying = True
-            continue
-        flying = False
-        if cached:
-            if r == coarse:
-                return STEP_TOO_COARSE, flying
-            piece = pieces[r]
-        else:
-            piece = pieces[0]
-            if law.set_piece(piece, a, rows, r, laws) != 0:
-                return STEP_TOO_COARSE, flying
-        n_flagged, first = vector_pass(
-            lanes, n, a, piece, h * rows[r, nt.INT1], h * h * rows[r, nt.KINT1]
-        )
-        for i in range(first, n):
-            if n_flagged == 0:
-                break
-            if lanes[FLAG, i] != 0.0:
-                n_flagged -= 1
-                if lanes[X, i] != lanes[X, i]:
-                    continue  # a lane that stalled (below): only flagged at a landing
-                flagged[i] += 1
-                xi, vi, fi, mi, k = law.lane_piece(
-                    a, piece, lanes[FORCE, i], lanes[FM, i], lanes[KM, i],
-                    lanes[MU_S, i], lanes[MU_K, i], lanes[X, i], lanes[V, i],
-                    lanes[FS, i], lanes[MODE, i],
-                )  # fmt: skip
-                if k < 0:
-                    if windowed and windows.step_lane(
-                        window, lanes, switches, flagged, i, rows, r, dt
-                    ):
-                        continue  # the row on the scalar step instead
-                    # Handed back alone (run_mindlin_lanes): NaN from here on, which the
-                    # vector pass carries without a flag; the other lanes go on.
-                    lanes[X, i], lanes[V, i], lanes[FS, i] = math.nan, math.nan, math.nan
-                    continue
-                switches[i] += k
-                lanes[X, i], lanes[V, i], lanes[FS, i], lanes[MODE, i] = xi, vi, fi, mi
-    return OK, flying
 
 
 @njit(cache=True, nogil=True)

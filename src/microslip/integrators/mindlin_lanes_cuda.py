@@ -45,7 +45,13 @@ from microslip.integrators.mindlin_lanes import (
     raise_if_too_coarse,
     supports_exponent,
 )
-from microslip.integrators.mindlin_pass import free_piece, piece_constants
+from microslip.integrators.mindlin_pass import (
+    EMPTY_STICK,
+    extend_stick,
+    free_piece,
+    piece_constants,
+    stick_span_constants,
+)
 from microslip.integrators.shared_lanes import OK
 from microslip.integrators.shared_lanes_cuda import (
     TAPE_ROWS,
@@ -53,15 +59,16 @@ from microslip.integrators.shared_lanes_cuda import (
     cuda,
     cuda_unavailable,
     run_lanes,
+    span_rows,
 )
 from microslip.integrators.spring_lanes import FS, V, X, pack_lanes
 from microslip.integrators.spring_lanes_cuda import (
     COARSE,
     lane_results,
     lanes_kernel,
-    no_span,
     start_lanes,
 )
+from microslip.integrators.spring_pass import stuck_span
 from microslip.integrators.tape_row import flight_piece
 from microslip.model.coefficients import EXPONENT, GRAVITY, MASS, SIZE
 
@@ -72,9 +79,10 @@ _PIECE = law.PIECE  # a module constant: the size of a local array must be a lit
 _CONSTANTS = law.PIECE  # where a table row keeps the piece's free_piece constants
 _N_CONSTANTS = 19  # of mindlin_pass.piece_constants
 TABLE_WIDTH = law.PIECE + _N_CONSTANTS
-# Columns of the per-set-up constants: mass [kg], gravity [m/s²], ratio λ [-], and 1.0
-# once the table kernel has met a row in flight at an m2 outside supports_exponent.
-S_MASS, S_GRAVITY, S_RATIO, S_LEFT = range(4)
+# Columns of the per-set-up constants: mass [kg], gravity [m/s²], ratio λ [-], 1.0
+# once the table kernel has met a row in flight at an m2 outside supports_exponent, and
+# 1.0 for such an m2 (its lanes take no spans, as on the CPU).
+S_MASS, S_GRAVITY, S_RATIO, S_LEFT, S_ROUGH = range(5)
 
 
 def piece_table_row(tapes, rows, normal_c, setups, pieces, coarse, rough):
@@ -119,6 +127,36 @@ def piece_table_row(tapes, rows, normal_c, setups, pieces, coarse, rough):
         pieces[g, r, _CONSTANTS + q] = k[q]
 
 
+def mindlin_span(tapes, g, r0, r1, setups, pieces, force, mu_s, x, v, f):
+    """A stuck Mindlin lane over rows [r0, r1) of set-up g's tape as the span's map of
+    its stick (``span_piece`` of
+    :func:`~microslip.integrators.spring_lanes_cuda.lanes_kernel`): (stuck, x [m], ẋ
+    [m/s], f [N]) of :func:`~microslip.integrators.spring_pass.stuck_span`, the span and
+    its stick extended row by row from the pieces' table in row order, as the CPU
+    kernel's :func:`~microslip.integrators.mindlin_spans.run_span` does. Not stuck on a
+    set-up whose m2 is outside supports_exponent (its rows go one by one, as on the
+    CPU), nor on a span with a row in flight or too coarse."""
+    if setups[g, S_ROUGH] != 0.0:
+        return False, x, v, f
+    span, stick = nt.EMPTY_SPAN, EMPTY_STICK
+    for r in range(r0, r1):
+        span = nt.extend_span(
+            span, tapes[g, r, nt.H], tapes[g, r, nt.INT1], tapes[g, r, nt.KINT1],
+            tapes[g, r, nt.PMIN], tapes[g, r, nt.PMAX],
+        )  # fmt: skip
+        if not span[3] > 0.0 or pieces[g, r, law.M_H] < 0.0:
+            return False, x, v, f  # N = 0 on the span (its Φ's unwritten), or too coarse
+        k = law.M_K
+        stick = extend_stick(
+            stick, pieces[g, r, law.M_H], pieces[g, r, law.M_PHI11], pieces[g, r, law.M_PHI12],
+            pieces[g, r, law.M_PHI21], pieces[g, r, law.M_PHI22], pieces[g, r, law.M_PSI1],
+            pieces[g, r, law.M_PSI2], pieces[g, r, k], pieces[g, r, k + 1],
+            pieces[g, r, k + 2], pieces[g, r, k + 3], pieces[g, r, k + 4],
+        )  # fmt: skip
+    constants = stick_span_constants(stick, setups[g, S_MASS])
+    return stuck_span(constants, span[3], 0.0, x, v, f, force, mu_s)
+
+
 def mindlin_setup(piece, setups, g):
     """Nothing to prepare per lane (``setup_lane`` of
     :func:`~microslip.integrators.spring_lanes_cuda.lanes_kernel`): the set-up's mass,
@@ -159,7 +197,9 @@ def mindlin_piece(tapes, g, r, a, h, setups, pieces, piece, force, fm, km, mu_s,
 def _kernels():
     """(pieces' table kernel, lane kernel), compiled for the GPU on their first launch."""
     device = cuda.jit(device=True)
-    lanes = lanes_kernel(device(mindlin_setup), device(mindlin_piece), device(no_span), law.PIECE)
+    lanes = lanes_kernel(
+        device(mindlin_setup), device(mindlin_piece), device(mindlin_span), law.PIECE
+    )
     return cuda.jit(piece_table_row), lanes
 
 
@@ -187,10 +227,12 @@ def run_mindlin_lanes_cuda(normal_coeffs, normal_states0, ratio, group_of_lane, 
     n_groups = normal_coeffs.shape[0]
     if tape_rows is None:
         tape_rows = max(16, min(TAPE_ROWS, PIECES_BYTES // (n_groups * TABLE_WIDTH * 8)))
-    setups = np.stack(
-        [normal_coeffs[:, MASS], normal_coeffs[:, GRAVITY], ratio, np.zeros(n_groups)], axis=1
-    )
+    tape_rows = span_rows(n_groups, tape_rows)  # whole spans: the CPU kernel's spans
     rough = np.array([not supports_exponent(m2) for m2 in normal_coeffs[:, EXPONENT]], np.int64)
+    setups = np.stack(
+        [normal_coeffs[:, MASS], normal_coeffs[:, GRAVITY], ratio, np.zeros(n_groups), rough],
+        axis=1,
+    ).astype(np.float64)
     lane_group, flying = start_lanes(normal_coeffs, states0, lanes, starts)
     table_kernel, lane_kernel = _kernels()
     d_coeffs, d_setups = cuda.to_device(normal_coeffs), cuda.to_device(setups)

@@ -7,9 +7,18 @@ in stick, the rigid law in slip, with the constants of the piece that every lane
 (:func:`piece_constants`), and is flagged where its switching function may reach its
 boundary inside the piece or it lands there; the flagged lanes are redone by the lane
 law (:func:`~microslip.integrators.mindlin_lane_law.lane_piece`).
+
+A span of pieces: :func:`extend_stick` composes the stick's map over its rows (the
+product of their Φ) and the bounds of their stiffness, and :func:`stick_span_constants`
+turns them into the proof of
+:func:`~microslip.integrators.spring_pass.stuck_span`
+(:mod:`~microslip.integrators.mindlin_spans`; docs/theory/numerics.md, "Lanes on a
+Mindlin spring").
 """
 
 from __future__ import annotations
+
+import math
 
 from numba import njit
 
@@ -87,3 +96,54 @@ def vector_pass(lanes, n, a, piece, h_int, h2_kint):
         n_flagged += 1 if flag else 0
         first = min(first, i if flag else n)
     return n_flagged, first
+
+
+# A span's stick before its first row (:func:`extend_stick`): length [s], the map A = I,
+# B = 0, the greatest and least stiffness k_hi, k_lo [N/m], the largest rate |dk/dt|
+# [N/(m s)], the variation of k [N/m] and the jumps of k between rows [N/m]; the
+# stiffness at the end of the last row [N/m] (NaN: no row yet).
+EMPTY_STICK = (0.0, 1.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, math.inf, 0.0, 0.0, 0.0, math.nan)
+
+
+@njit(cache=True, inline="always", error_model="numpy")
+def extend_stick(stick, h, phi11, phi12, phi21, phi22, psi1, psi2, k0, k1, k2, k3, k4):
+    """``stick`` (:data:`EMPTY_STICK`, then this) followed by a contact piece of length h
+    [s], the stick's Φ(1) and ∫ẋ(1) on it and its stiffness quartic k(τ) = Σ k_j τ^j
+    [N/m] (the slots of :func:`~microslip.integrators.mindlin_piece.set_piece`): the
+    stick's map over both, (ẋ, e) -> Φ A (ẋ, e), x gaining Ψ·A (ẋ, e), and the bounds
+    of k on it (k's coefficients' moduli bound it on [0, 1]). Takes the row's values,
+    not the table: the CUDA lanes call it on their own reads."""
+    length, a11, a12, a21, a22, b1, b2, k_hi, k_lo, rate, variation, jumps, k_end = stick
+    slope = abs(k1) + 2.0 * abs(k2) + 3.0 * abs(k3) + 4.0 * abs(k4)  # >= |dk/dτ| on [0, 1]
+    rest = abs(k1) + abs(k2) + abs(k3) + abs(k4)
+    jump = abs(k0 - k_end) if k_end == k_end else 0.0
+    return (
+        length + h,
+        phi11 * a11 + phi12 * a21, phi11 * a12 + phi12 * a22,
+        phi21 * a11 + phi22 * a21, phi21 * a12 + phi22 * a22,
+        b1 + (psi1 * a11 + psi2 * a21), b2 + (psi1 * a12 + psi2 * a22),
+        max(k_hi, abs(k0) + rest), min(k_lo, k0 - rest), max(rate, slope / h),
+        variation + slope, jumps + jump, k0 + k1 + k2 + k3 + k4,
+    )  # fmt: skip
+
+
+@njit(cache=True, inline="always", error_model="numpy")
+def stick_span_constants(stick, mass):
+    """The numbers of a span that every stuck lane shares, as
+    :func:`~microslip.integrators.spring_pass.stuck_span` takes them, from its
+    :func:`extend_stick` (m [kg]). With k_lo > 0 the energy E = ½ m ẋ² + e²/(2k) of a
+    stuck lane changes at a rate |dE/dt| = |k̇| e²/(2k²) <= |k̇|/k_lo E, and a jump of k
+    between rows scales it by at most 1 + |Δk|/k_lo: E <= G E0, G = exp((∫|k̇| dt + Σ|Δk|)
+    / k_lo), so |ẋ| <= sqrt(G/m) sqrt(2 E0) and |e| <= sqrt(k_hi G) sqrt(2 E0). On the
+    span (τ ∈ [0, 1], t = t0 + Lτ) f'' = L² (k̇ ẋ - k e/m), and f' jumps by L Δk ẋ
+    between rows: f strays from its chord by at most L² max|f''|/8 + L Σ|Δk| |ẋ|/4. A
+    span with k_lo <= 0 gets an infinite bound (no lane takes it)."""
+    length, a11, a12, a21, a22, b1, b2, k_hi, k_lo, rate, variation, jumps, _ = stick
+    if not k_lo > 0.0:
+        return a11, a12, a21, a22, b1, b2, mass, 0.0, math.inf
+    growth = math.exp((variation + jumps) / k_lo)
+    v_scale = math.sqrt(growth / mass)
+    e_scale = math.sqrt(k_hi * growth)
+    c = length * length * (rate * v_scale + k_hi * e_scale / mass) / 8.0
+    c += length * jumps * v_scale / 4.0
+    return a11, a12, a21, a22, b1, b2, mass, 1.0 / k_lo, c

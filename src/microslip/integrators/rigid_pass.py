@@ -89,21 +89,21 @@ def _releasable(lanes, n, p_min):
 
 
 @njit(cache=True)
-def gather_flagged(lanes, last, n_flagged, sub, columns):
-    """Copy the ``n_flagged`` flagged lanes among lanes [0, last] (a lane array whose last
+def gather_flagged(lanes, last, sub, columns):
+    """Copy the flagged lanes among lanes [0, last] (a lane array whose last
     row is its flag: the rigid, spring and Mindlin lanes' FLAG), in their order, to the
     first columns of ``sub``, and their indices to ``columns``; returns their number (an
-    int64, never a literal: the row passes it goes to would compile for one)."""
+    int64, never a literal: the row passes it goes to would compile for one). The
+    indices are found without a branch (a flag is as likely as not: a branch on it
+    mispredicts), then each row gathered."""
     flag = lanes.shape[0] - 1
     m = np.int64(0)
     for i in range(last + 1):
-        if m == n_flagged:
-            break
-        if lanes[flag, i] != 0.0:
-            columns[m] = i
-            for row in range(lanes.shape[0]):
-                sub[row, m] = lanes[row, i]
-            m += 1
+        columns[m] = i  # m <= i <= last: within columns; kept where lane i is flagged
+        m += 1 if lanes[flag, i] != 0.0 else 0
+    for row in range(lanes.shape[0]):
+        for j in range(m):
+            sub[row, j] = lanes[row, columns[j]]
     return m
 
 
@@ -124,8 +124,8 @@ def lanes_over_rows(tape, r0, r1, lanes, n, n_active, switches, flagged):
         b1 = min(b0 + SPAN_ROWS, r1)
         length, h_int, h2_kint, p_min, p_max = nt.span(tape, b0, b1)
         n_range = max(n_active, _releasable(lanes, n, p_min))
-        n_flagged, last = _vector_pass(lanes, n_range, length, h_int, h2_kint, p_min, p_max)
-        m = gather_flagged(lanes, last, n_flagged, sub, columns)
+        _, last = _vector_pass(lanes, n_range, length, h_int, h2_kint, p_min, p_max)
+        m = gather_flagged(lanes, last, sub, columns)
         for j in range(m):
             sub_switches[j] = 0
             sub_flagged[j] = 0

@@ -177,7 +177,7 @@ def _spans(tape, n_rows, lanes, n, piece, flying, switches, flagged, sub, column
         flying = False  # a lane stuck throughout the span: no row of it is in flight
         if n_flagged == 0:
             continue  # every lane took the span: its rows need not be read
-        m = gather_flagged(lanes, last, n_flagged, sub, columns)
+        m = gather_flagged(lanes, last, sub, columns)
         for j in range(m):
             counts[0, j], counts[1, j] = 0, 0
         # Not in flight (a bool, not the literal False: _rows would compile for it too).

@@ -61,7 +61,9 @@ def lanes_kernel(setup_lane, contact_piece, span_piece, scratch_size):
     the spring, :func:`~microslip.integrators.spring_lanes.flight_step` in flight), with
     ``contact_piece(tapes, g, r, a, h, setups, pieces, scratch, force, fm, km, mu_s,
     mu_k, x, v, f, mode)`` -> (flagged, switches, x, v, f, mode) on a contact piece
-    (switches STALLED or COARSE end the lane; only STALLED marks it stalled), a
+    (switches STALLED or COARSE end the lane; only STALLED marks it stalled),
+    ``span_piece(tapes, g, r0, r1, setups, pieces, force, mu_s, x, v, f)`` -> (stuck, x,
+    v, f) for a stuck lane over the span of rows [r0, r1) (stuck: it took the span), a
     thread-local ``scratch`` of ``scratch_size`` floats that ``setup_lane(scratch,
     setups, g)`` prepares once per lane. Compiled on its first launch."""
 
@@ -84,8 +86,10 @@ def lanes_kernel(setup_lane, contact_piece, span_piece, scratch_size):
         for r0 in range(0, rows[g], SPAN_ROWS):  # the CPU kernel's spans (blocks of whole spans)
             r1 = min(r0 + SPAN_ROWS, rows[g])
             if mode == 0.0:
-                stuck, x1, v1, f1 = span_piece(tapes, g, r0, r1, setups, force, mu_s, x, v, f)
-                if stuck:  # stuck throughout: one turn of the oscillator
+                stuck, x1, v1, f1 = span_piece(
+                    tapes, g, r0, r1, setups, pieces, force, mu_s, x, v, f
+                )
+                if stuck:  # stuck throughout: the span's map of its stick
                     x, v, f = x1, v1, f1
                     continue
             for r in range(r0, r1):
@@ -148,10 +152,11 @@ def spring_piece(tapes, g, r, a, h, setups, pieces, piece, force, fm, km, mu_s, 
     return True, n, x, v, f, mode
 
 
-def spring_span(tapes, g, r0, r1, setups, force, mu_s, x, v, f):
+def spring_span(tapes, g, r0, r1, setups, pieces, force, mu_s, x, v, f):
     """A stuck spring lane over rows [r0, r1) of set-up g's tape as one turn of its
-    oscillator (``span_piece`` of :func:`lanes_kernel`): (stuck, x [m], ẋ [m/s], f [N])
-    of :func:`~microslip.integrators.spring_pass.stuck_span`, the span summed by
+    oscillator (``span_piece`` of :func:`lanes_kernel`, ``pieces`` unused): (stuck, x
+    [m], ẋ [m/s], f [N]) of :func:`~microslip.integrators.spring_pass.stuck_span`, the
+    span summed by
     :func:`~microslip.integrators.normal_tape.extend_span` in row order as on the CPU.
     (The loop is ``nt.span``'s, as in the rigid lanes' ``lane_span``: under numba's CUDA
     simulator a compiled function cannot take the kernel's arrays.)"""
@@ -164,12 +169,6 @@ def spring_span(tapes, g, r0, r1, setups, force, mu_s, x, v, f):
     length, p_min = span[0], span[3]
     k = span_constants(setups[g, S_OMEGA], setups[g, S_KT], setups[g, S_MASS], length)
     return stuck_span(k, p_min, 0.0, x, v, f, force, mu_s)
-
-
-def no_span(tapes, g, r0, r1, setups, force, mu_s, x, v, f):
-    """``span_piece`` of :func:`lanes_kernel` for lanes that take every row alone (the
-    Mindlin lanes: their stick depends on N)."""
-    return False, x, v, f
 
 
 @functools.cache

@@ -14,15 +14,19 @@ alone by :func:`~microslip.integrators.spring_lane_law.lane_piece`.
 A span of contact pieces (SPAN_ROWS rows of the tape,
 :func:`~microslip.integrators.normal_tape.span`): a stuck lane's oscillator does not
 depend on N, so a lane that provably sticks throughout the span (its spring force
-bounded by the oscillation's ends and curvature, against the least N of the span) turns
-once over the whole span (:func:`stuck_span`) instead of once a row. On the bench's
-spring map ~64% of the lanes take each span so (2026-11-29).
+bounded by the oscillation's ends and amplitude, against the least N of the span) turns
+once over the whole span (:func:`stuck_span`, :func:`span_pass`) instead of once a row.
+On the bench's spring map ~64% of the lanes take each span so (2026-11-29). The law of a
+stuck span takes any stick linear in (ẋ, e): the Mindlin lanes
+(:mod:`~microslip.integrators.mindlin_spans`) give it their span's product of Φ's.
 
 The loops are compiled without fastmath (no FMA contraction): a lane's bits depend only
 on its own parameters and its set-up's tape.
 """
 
 from __future__ import annotations
+
+import math
 
 from numba import njit
 
@@ -112,30 +116,39 @@ def free_piece(k, s, xi, vi, fi, force, fm, km, mu_s, mu_k):
 @njit(cache=True, inline="always", error_model="numpy")
 def span_constants(omega, k_t, mass, length):
     """The numbers of a span of contact pieces (:func:`~microslip.integrators.normal_tape.span`,
-    ``length`` [s]) that every stuck lane shares (a tuple for :func:`stuck_span`): the
-    oscillator's factors for θ = ω·length (ω [rad/s], k_t [N/m], m [kg]) and θ²/8."""
+    ``length`` [s]) that every stuck lane shares, as :func:`stuck_span` takes them: the
+    oscillator's turn by θ = ω·length (ω [rad/s], k_t [N/m], m [kg]) as a linear map of
+    (ẋ, e), and its bound's factors. The spring's k_t is constant: the energy
+    ½ m ẋ² + e²/(2 k_t) is too, and |f''| <= θ² sqrt(k_t) sqrt(m ẋ0² + e0²/k_t)."""
     theta = omega * length
     sin_t, cos_minus_one = oscillation(theta)
+    cos_t = 1.0 + cos_minus_one
     return (
-        sin_t, cos_minus_one, sin_t / omega, sin_t / (mass * omega), cos_minus_one / k_t,
-        k_t / omega, theta * theta / 8.0,
+        cos_t, -sin_t / (mass * omega), k_t * sin_t / omega, cos_t, sin_t / omega,
+        cos_minus_one / k_t, mass, 1.0 / k_t, theta * theta * math.sqrt(k_t) / 8.0,
     )  # fmt: skip
 
 
 @njit(cache=True, inline="always", error_model="numpy")
 def stuck_span(k, p_min, s, xi, vi, fi, force, mu_s):
-    """(safe, x1, ẋ1, f1) of a lane over a span of contact pieces as one turn of its
-    oscillator (``k`` from :func:`span_constants`, ``p_min`` [N] the least N on the
-    span): ``safe`` where it sticks (mode ``s`` = 0) and stays stuck throughout. On the
-    span (in τ ∈ [0, 1]) |f''| <= θ² (|e0| + |b|), so |f| <= max(|f0|, |f1|) +
-    θ² (|e0| + |b|)/8, and stick holds while that stays below μ_s p_min. Branch-free."""
-    sin_t, cos_minus_one, sin_over_omega, sin_over_m_omega, cm1_over_kt = k[:5]
-    kt_over_omega, theta2_8 = k[5:]
-    x1, v1, f1, e0, b = oscillator(
-        xi, vi, fi, force, sin_t, cos_minus_one, sin_over_omega, sin_over_m_omega,
-        cm1_over_kt, kt_over_omega,
-    )  # fmt: skip
-    low = mu_s * p_min - max(abs(fi), abs(f1)) - theta2_8 * (abs(e0) + abs(b))
+    """(safe, x1 [m], ẋ1 [m/s], f1 [N]) of a lane over a span of contact pieces on which
+    its stick is linear in (ẋ, e), e = f - F: (ẋ1, e1) = A (ẋ0, e0), x1 = x0 + B·(ẋ0, e0),
+    with ``k`` = (A11, A12, A21, A22, B1, B2, m [kg], 1/k_lo [m/N], c [(N/m)^½]) from
+    :func:`span_constants` (a spring) or
+    :func:`~microslip.integrators.mindlin_pass.stick_span_constants` (Mindlin);
+    ``p_min`` [N] the least N on the span. ``safe`` where the lane sticks (mode ``s`` =
+    0) and provably stays stuck throughout: f deviates from its chord by at most
+    c sqrt(w) on the span, w = m ẋ0² + e0²/k_lo [J] twice the energy's bound at its
+    start (k_lo the least stiffness on it), so |f| <= max(|f0|, |f1|) + c sqrt(w), which
+    must stay below μ_s p_min (docs/theory/numerics.md, "Lanes on a spring" and "Lanes
+    on a Mindlin spring"). Branch-free."""
+    a11, a12, a21, a22, b1, b2, mass, inv_k, c8 = k
+    e0 = fi - force
+    x1 = xi + (b1 * vi + b2 * e0)
+    v1 = a11 * vi + a12 * e0
+    f1 = force + (a21 * vi + a22 * e0)
+    energy = mass * vi * vi + inv_k * e0 * e0
+    low = mu_s * p_min - max(abs(fi), abs(f1)) - c8 * math.sqrt(energy)
     return (s == 0.0) & (p_min > 0.0) & (low > 0.0), x1, v1, f1
 
 
