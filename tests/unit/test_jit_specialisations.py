@@ -66,7 +66,7 @@ DISPATCHERS = {
     "spring_lanes._spans": spring_lanes._spans,
     "spring_lanes._rows": spring_lanes._rows,
     "run_rows": mindlin_rows.run_rows,
-    "run_span": mindlin_spans.run_span,
+    "run_spans": mindlin_spans.run_spans,
     "_copy_lane": lane_parking._copy_lane,
     "_write": kernel._write,
 }

@@ -221,7 +221,7 @@ def test_pieces_written_once_per_cycle_row_give_the_bits_of_writing_them_as_serv
     from microslip.integrators import mindlin_lanes as ml
     from microslip.integrators import mindlin_windows as mw
     from microslip.integrators import periodic_tape
-    from microslip.integrators.mindlin_spans import stepped_spans
+    from microslip.integrators.mindlin_spans import run_spans
     from microslip.integrators.rigid_pass import SPAN_ROWS
     from microslip.integrators.spring_pass import LANE_ROWS
 
@@ -250,8 +250,9 @@ def test_pieces_written_once_per_cycle_row_give_the_bits_of_writing_them_as_serv
     while tape_status == 1:
         rows, tape_status = periodic_tape.repeat_rows(carry, tape, cycle, shape)
         window = mw.window_buffers(C, RATIO)
-        status, flying = stepped_spans(served, tape, rows, pieces, C, flying, served_switches,
-                                       served_flagged, window, DT, True, scratch)  # fmt: skip
+        status, flying = run_spans(served, tape, rows, (0, 0, 0, 0.0), pieces, -1, C, flying,
+                                   served_switches, served_flagged, window, DT, True, scratch,
+                                   threads.stop_flag(), 0)  # fmt: skip
         assert status == 0
     assert np.array_equal(cached, served)
     assert np.array_equal(switches, served_switches) and np.array_equal(flagged, served_flagged)

@@ -63,7 +63,7 @@ from microslip.integrators.mindlin_rows import (
     run_rows,
     supports_exponent,
 )
-from microslip.integrators.mindlin_spans import periodic_spans, stepped_spans
+from microslip.integrators.mindlin_spans import run_spans
 from microslip.integrators.rigid_pass import SPAN_ROWS
 from microslip.integrators.shared_lanes import (
     FIRST_ROW,
@@ -125,9 +125,9 @@ def _run_group(c, y0, ydot0, ratio, cycle, shape, t_end, dt, lanes, switches, fl
         # A period in contact throughout needs no window (nor a look-ahead past its end).
         windowed = windowed and has_flight(cycle, total)
         if not rough:
-            return periodic_spans(
-                lanes, cycle, shape, table, coarse, laws, flying, switches, flagged, window,
-                step, windowed, scratch, stop, item,
+            return run_spans(
+                lanes, cycle, total, shape, table, coarse, laws, flying, switches, flagged,
+                window, step, windowed, scratch, stop, item,
             )[0]  # fmt: skip
         for k in range(repeats):
             if stop[0] != 0:
@@ -172,9 +172,9 @@ def _run_group(c, y0, ydot0, ratio, cycle, shape, t_end, dt, lanes, switches, fl
                 flying, switches, flagged, window, in_sight, final, dt, windowed,
             )  # fmt: skip
         else:
-            status, flying = stepped_spans(
-                lanes, tape, rows, pieces, laws, flying, switches, flagged, window, dt,
-                windowed, scratch,
+            status, flying = run_spans(
+                lanes, tape, rows, shape, pieces, NO_COARSE_ROW, laws, flying, switches,
+                flagged, window, dt, windowed, scratch, stop, item,
             )  # fmt: skip
         if status != OK:
             return status

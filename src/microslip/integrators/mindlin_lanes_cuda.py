@@ -133,7 +133,7 @@ def mindlin_span(tapes, g, r0, r1, setups, pieces, force, mu_s, x, v, f):
     :func:`~microslip.integrators.spring_lanes_cuda.lanes_kernel`): (stuck, x [m], ẋ
     [m/s], f [N]) of :func:`~microslip.integrators.spring_pass.stuck_span`, the span and
     its stick extended row by row from the pieces' table in row order, as the CPU
-    kernel's :func:`~microslip.integrators.mindlin_spans.run_span` does. Not stuck on a
+    kernel's :func:`~microslip.integrators.mindlin_spans.run_spans` does. Not stuck on a
     set-up whose m2 is outside supports_exponent (its rows go one by one, as on the
     CPU), nor on a span with a row in flight or too coarse."""
     if setups[g, S_ROUGH] != 0.0:

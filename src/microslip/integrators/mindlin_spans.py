@@ -1,5 +1,5 @@
 """The Mindlin lanes over spans of tape rows: SPAN_ROWS rows at a time from the tape's
-first row (:func:`stepped_spans`, :func:`periodic_spans`), for the set-ups whose
+first row (:func:`run_spans`), for the set-ups whose
 contact exponent :func:`~microslip.integrators.mindlin_rows.supports_exponent` (the
 others take their rows one by one, with windows across their flights).
 
@@ -33,7 +33,6 @@ from microslip.integrators import threads
 from microslip.integrators.mindlin_pass import EMPTY_STICK, extend_stick, stick_span_constants
 from microslip.integrators.mindlin_rows import (
     FINAL,
-    NO_COARSE_ROW,
     STEP_TOO_COARSE,
     TABLE,
     run_rows,
@@ -42,8 +41,6 @@ from microslip.integrators.rigid_pass import SPAN_ROWS, gather_flagged
 from microslip.integrators.shared_lanes import OK, STOPPED
 from microslip.integrators.spring_pass import FS, MODE, V, X, span_pass
 from microslip.integrators.tape_row import flight_piece
-
-ONE_RUN = np.int64(1)  # a stepped span's rows: one run (not a literal: docs/design.md)
 
 
 @njit(cache=True, inline="always")
@@ -68,115 +65,97 @@ def extend_row(span, stick, rows, r, pieces, q):
 
 
 @njit(cache=True)
-def run_span(lanes, rows, runs, n_runs, pieces, base, coarse, laws, flying, switches, flagged,
-             window, dt, windowed, scratch):  # fmt: skip
-    """The lanes over one span, in place: rows [runs[k, 0], runs[k, 1]) of ``rows`` for
-    k < ``n_runs``, in that order, their pieces pieces[r - ``base``] (``coarse`` a row
-    too coarse, or NO_COARSE_ROW). A lane stuck throughout takes the span as one map
-    (module doc); the others take its rows one by one
-    (:func:`~microslip.integrators.mindlin_rows.run_rows`, ``window``, ``dt``,
-    ``windowed`` as there), on a compact copy unless no lane took the span (``scratch``
-    = (sub, columns, counts) for it). Returns (status, flying)."""
+def run_spans(lanes, rows, n_rows, shape, pieces, coarse, laws, flying, switches, flagged,
+              window, dt, windowed, scratch, stop, item):  # fmt: skip
+    """The lanes over a tape span by span from its first row, in place (module doc): a
+    lane stuck throughout a span takes it as one map, the others take its rows one by
+    one (:func:`~microslip.integrators.mindlin_rows.run_rows`; ``laws``, ``window``,
+    ``dt``, ``windowed`` as there), on a compact copy unless no lane took the span
+    (``scratch`` = (sub, columns, counts) for it). Returns (status, flying).
+
+    A stepped tape (``shape``'s period rows 0): rows [0, n_rows) of a block of ``rows``
+    (a multiple of SPAN_ROWS from t = 0), each span's pieces written into ``pieces``
+    (SPAN_ROWS rows, the set-up's slots written) first. A repeated tape (``rows`` its
+    cycle, ``shape`` of :func:`~microslip.integrators.periodic_tape.cycle_rows`: the
+    period's rows ``repeats`` times, then the tail): each row's piece is
+    pieces[cycle row] (``coarse`` the first row too coarse), a span's rows one or two
+    runs of the cycle; STOPPED once ``stop[0]`` is set, progress reported as ``item``.
+    (One function for both, and the span inline: each compiled function costs seconds
+    of cold compile.)"""
     n = lanes.shape[1]
-    span, stick = nt.EMPTY_SPAN, EMPTY_STICK
-    takes = True  # no row too coarse (run_rows reports it)
-    for k in range(n_runs):
-        for r in range(runs[k, 0], runs[k, 1]):
-            span, stick = extend_row(span, stick, rows, r, pieces, r - base)
-            takes = takes and r != coarse
-    p_min = span[3]
-    n_flagged, last = n, n - 1
-    if takes and p_min > 0.0:
-        k = stick_span_constants(stick, pieces[0, law.M_MASS])
-        n_flagged, last = span_pass(lanes, n, k, p_min)
-    if n_flagged == n:  # no lane took the span: its rows for every lane, in place
-        for k in range(n_runs):
-            status, flying = run_rows(
-                lanes, n, rows, runs[k, 0], runs[k, 1], pieces, base, coarse, laws, flying,
-                switches, flagged, window, runs[k, 1], FINAL, dt, windowed,
-            )  # fmt: skip
-            if status != OK:
-                return status, flying
-        return OK, flying
-    if n_flagged == 0:
-        return OK, False  # every lane took the span (stuck: not in flight)
-    sub, columns, counts = scratch
-    m = gather_flagged(lanes, last, sub, columns)
-    for j in range(m):
-        counts[0, j], counts[1, j] = 0, 0
-    for k in range(n_runs):
-        # Not in flight (a bool, not the literal False: run_rows would compile for it too).
-        status, _ = run_rows(
-            sub, m, rows, runs[k, 0], runs[k, 1], pieces, base, coarse, laws, np.bool_(False),
-            counts[0], counts[1], window, runs[k, 1], FINAL, dt, windowed,
-        )  # fmt: skip
-        if status != OK:
-            return status, False
-    for j in range(m):
-        i = columns[j]
-        lanes[X, i], lanes[V, i], lanes[FS, i] = sub[X, j], sub[V, j], sub[FS, j]
-        lanes[MODE, i] = sub[MODE, j]
-        switches[i] += counts[0, j]
-        flagged[i] += counts[1, j]
-    return OK, False
-
-
-@njit(cache=True)
-def stepped_spans(lanes, tape, n_rows, pieces, laws, flying, switches, flagged, window, dt,
-                  windowed, scratch):  # fmt: skip
-    """The lanes over rows [0, n_rows) of a block of ``tape`` (a multiple of SPAN_ROWS
-    from t = 0), span by span (:func:`run_span`), each span's pieces written into
-    ``pieces`` (SPAN_ROWS rows, the set-up's slots written) first. Returns (status,
-    flying)."""
-    runs = np.empty((1, 2), dtype=np.int64)
-    for b0 in range(0, n_rows, SPAN_ROWS):
-        b1 = min(b0 + SPAN_ROWS, n_rows)
-        for r in range(b0, b1):
-            a = nt.coefficients(tape, r)
-            if not flight_piece(a) and law.set_piece(pieces[r - b0], a, tape, r, laws) != 0:
-                return STEP_TOO_COARSE, flying
-        runs[0, 0], runs[0, 1] = b0, b1
-        status, flying = run_span(
-            lanes, tape, runs, ONE_RUN, pieces, b0, NO_COARSE_ROW, laws, flying, switches, flagged,
-            window, dt, windowed, scratch,
-        )  # fmt: skip
-        if status != OK:
-            return status, flying
-    return OK, flying
-
-
-@njit(cache=True)
-def periodic_spans(lanes, cycle, shape, table, coarse, laws, flying, switches, flagged, window,
-                   dt, windowed, scratch, stop, item):  # fmt: skip
-    """The lanes over a repeated tape (``cycle``, ``shape`` of
-    :func:`~microslip.integrators.periodic_tape.cycle_rows`: its period's rows ``repeats``
-    times, then its tail), span by span (:func:`run_span`) from its first row, each row's
-    piece table[cycle row] (``coarse`` the first row too coarse). Returns (status,
-    flying); STOPPED once ``stop[0]`` is set, reporting progress there as ``item``."""
     period_rows, tail_rows, repeats, _ = shape
     repeated = repeats * period_rows
-    total = repeated + tail_rows
+    cached = period_rows > 0
+    total = repeated + tail_rows if cached else n_rows
     runs = np.empty((SPAN_ROWS, 2), dtype=np.int64)
     for b0 in range(0, total, SPAN_ROWS):
-        if stop[0] != 0:
-            return STOPPED, flying
         b1 = min(b0 + SPAN_ROWS, total)
-        n_runs = 0
-        j = b0
-        while j < b1:  # the span's rows as runs of the cycle's rows
-            if j < repeated:
-                source, left = j % period_rows, period_rows - j % period_rows
-            else:
-                source, left = period_rows + j - repeated, total - j
-            m = min(left, b1 - j)
-            runs[n_runs, 0], runs[n_runs, 1] = source, source + m
-            n_runs += 1
-            j += m
-        status, flying = run_span(
-            lanes, cycle, runs, n_runs, table, TABLE, coarse, laws, flying, switches, flagged,
-            window, dt, windowed, scratch,
-        )  # fmt: skip
-        if status != OK:
-            return status, flying
-        threads.report(stop, item, b1 / total)
+        # The span's rows as runs of ``rows``, and where their pieces are.
+        n_runs, base = 0, TABLE
+        if cached:
+            if stop[0] != 0:
+                return STOPPED, flying
+            j = b0
+            while j < b1:
+                if j < repeated:
+                    source, left = j % period_rows, period_rows - j % period_rows
+                else:
+                    source, left = period_rows + j - repeated, total - j
+                m = min(left, b1 - j)
+                runs[n_runs, 0], runs[n_runs, 1] = source, source + m
+                n_runs += 1
+                j += m
+        else:
+            for r in range(b0, b1):
+                a = nt.coefficients(rows, r)
+                if not flight_piece(a) and law.set_piece(pieces[r - b0], a, rows, r, laws) != 0:
+                    return STEP_TOO_COARSE, flying
+            runs[0, 0], runs[0, 1] = b0, b1
+            n_runs, base = 1, b0
+        # The span's stick, and which lanes take it.
+        span, stick = nt.EMPTY_SPAN, EMPTY_STICK
+        takes = True  # no row too coarse (run_rows reports it)
+        for k in range(n_runs):
+            for r in range(runs[k, 0], runs[k, 1]):
+                span, stick = extend_row(span, stick, rows, r, pieces, r - base)
+                takes = takes and r != coarse
+        p_min = span[3]
+        n_flagged, last = n, n - 1
+        if takes and p_min > 0.0:
+            constants = stick_span_constants(stick, pieces[0, law.M_MASS])
+            n_flagged, last = span_pass(lanes, n, constants, p_min)
+        if n_flagged == n:  # no lane took the span: its rows for every lane, in place
+            for k in range(n_runs):
+                status, flying = run_rows(
+                    lanes, n, rows, runs[k, 0], runs[k, 1], pieces, base, coarse, laws,
+                    flying, switches, flagged, window, runs[k, 1], FINAL, dt, windowed,
+                )  # fmt: skip
+                if status != OK:
+                    return status, flying
+        elif n_flagged > 0:
+            sub, columns, counts = scratch
+            m = gather_flagged(lanes, last, sub, columns)
+            for j in range(m):
+                counts[0, j], counts[1, j] = 0, 0
+            for k in range(n_runs):
+                # Not in flight (a bool, not the literal False: run_rows would compile
+                # for it too).
+                status, _ = run_rows(
+                    sub, m, rows, runs[k, 0], runs[k, 1], pieces, base, coarse, laws,
+                    np.bool_(False), counts[0], counts[1], window, runs[k, 1], FINAL, dt,
+                    windowed,
+                )  # fmt: skip
+                if status != OK:
+                    return status, False
+            for j in range(m):
+                i = columns[j]
+                lanes[X, i], lanes[V, i], lanes[FS, i] = sub[X, j], sub[V, j], sub[FS, j]
+                lanes[MODE, i] = sub[MODE, j]
+                switches[i] += counts[0, j]
+                flagged[i] += counts[1, j]
+            flying = False  # a lane took the span: no row of it is in flight
+        else:
+            flying = False  # every lane took the span (stuck: not in flight)
+        if cached:
+            threads.report(stop, item, b1 / total)
     return OK, flying
