@@ -14,7 +14,6 @@ import numpy as np
 from microslip import budget
 from microslip import validation as check
 from microslip.analysis.steady_state import TANGENTIAL_INSTEAD
-from microslip.integrators.mindlin_lanes import supports_exponent
 from microslip.integrators.setup_copies import SetupCopies
 from microslip.model.composition import Model
 from microslip.model.friction import StaticKinetic
@@ -84,6 +83,9 @@ def rough_exponents(model: Model, param_axes=()) -> bool:
     "m2" axis) outside :func:`~microslip.integrators.mindlin_lanes.supports_exponent`."""
     if not isinstance(model.tangential, MindlinSpring):
         return False
+    # Imported here: the Mindlin kernel's modules are ~18 ms of a start that runs none.
+    from microslip.integrators.mindlin_rows import supports_exponent
+
     exponents = dict(param_axes).get("m2", (model.params.m2,))
     return not all(supports_exponent(float(m2)) for m2 in exponents)
 
@@ -120,6 +122,7 @@ def flying_setups(model: Model, param_axes, amplitudes, duration: float, dt) -> 
 
 @functools.lru_cache(maxsize=8)
 def _flying_setups(model: Model, param_axes, amplitudes, duration: float, dt) -> float:
+    from microslip.integrators.mindlin_rows import supports_exponent
     from microslip.integrators.normal_tape import leaves_contact, normal_coefficients
 
     names = [name for name, _ in param_axes]
