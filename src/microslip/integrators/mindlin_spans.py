@@ -39,7 +39,7 @@ from microslip.integrators.mindlin_rows import (
 )
 from microslip.integrators.rigid_pass import SPAN_ROWS, gather_flagged
 from microslip.integrators.shared_lanes import OK, STOPPED
-from microslip.integrators.spring_pass import FS, MODE, V, X, span_pass
+from microslip.integrators.spring_pass import put_flagged, span_pass
 from microslip.integrators.tape_row import flight_piece
 
 
@@ -147,12 +147,7 @@ def run_spans(lanes, rows, n_rows, shape, pieces, coarse, laws, flying, switches
                 )  # fmt: skip
                 if status != OK:
                     return status, False
-            for j in range(m):
-                i = columns[j]
-                lanes[X, i], lanes[V, i], lanes[FS, i] = sub[X, j], sub[V, j], sub[FS, j]
-                lanes[MODE, i] = sub[MODE, j]
-                switches[i] += counts[0, j]
-                flagged[i] += counts[1, j]
+            put_flagged(lanes, switches, flagged, sub, columns, counts, m)
             flying = False  # a lane took the span: no row of it is in flight
         else:
             flying = False  # every lane took the span (stuck: not in flight)

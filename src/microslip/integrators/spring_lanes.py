@@ -66,6 +66,7 @@ from microslip.integrators.spring_pass import (
     MU_S,
     V,
     X,
+    put_flagged,
     span_constants,
     span_pass,
     vector_pass,
@@ -184,12 +185,7 @@ def _spans(tape, n_rows, lanes, n, piece, flying, switches, flagged, sub, column
         status, _ = _rows(tape, b0, b1, sub, m, piece, np.bool_(False), counts[0], counts[1])
         if status != OK:
             return status, flying
-        for j in range(m):
-            i = columns[j]
-            lanes[X, i], lanes[V, i], lanes[FS, i] = sub[X, j], sub[V, j], sub[FS, j]
-            lanes[MODE, i] = sub[MODE, j]
-            switches[i] += counts[0, j]
-            flagged[i] += counts[1, j]
+        put_flagged(lanes, switches, flagged, sub, columns, counts, m)
     return OK, flying
 
 

@@ -152,6 +152,20 @@ def stuck_span(k, p_min, s, xi, vi, fi, force, mu_s):
     return (s == 0.0) & (p_min > 0.0) & (low > 0.0), x1, v1, f1
 
 
+@njit(cache=True, inline="always")
+def put_flagged(lanes, switches, flagged, sub, columns, counts, m):
+    """Write the first ``m`` lanes of a compact copy (``sub``, their indices ``columns``,
+    their switches and flagged pieces in ``counts``, from
+    :func:`~microslip.integrators.rigid_pass.gather_flagged`) back into ``lanes``: their
+    state, and their counts added to ``switches`` and ``flagged``."""
+    for j in range(m):
+        i = columns[j]
+        lanes[X, i], lanes[V, i], lanes[FS, i] = sub[X, j], sub[V, j], sub[FS, j]
+        lanes[MODE, i] = sub[MODE, j]
+        switches[i] += counts[0, j]
+        flagged[i] += counts[1, j]
+
+
 @njit(cache=True, error_model="numpy")
 def vector_pass(lanes, n, a, piece, h_int, h2_kint):
     """A contact piece for every lane as if it held no switch (:func:`free_piece`),
