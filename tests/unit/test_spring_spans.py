@@ -3,7 +3,7 @@
 that lets a lane take the span holds: wherever it does, the spring force stays within
 the static limit μ_s N(t) at every instant of the span, N(t) read from the tape's own
 quartics and f(t) from the oscillator, both sampled densely (an independent check of
-the bound |f| <= max(|f0|, |f1|) + θ² (|e0| + |b|)/8 against the least N of the span).
+the bound |f| <= max(|f0|, |f1|) + θ² sqrt(e0² + b²)/8 against the least N of the span).
 """
 
 from __future__ import annotations
