@@ -72,6 +72,10 @@ def _root_value(kind, a, h, tau_a, v_a, s, fm, km, level, tau):
     return slip_speed(a, h, tau_a, v_a, s, fm, km, tau), rate
 
 
+# ``kind`` and ``zero_above`` are literals at _root's three call sites on purpose: numba
+# compiles it once for each pair (~0.3 s each of a cold start), and the branches folded
+# away make the forced time map ~6% faster than one compile with them as run-time
+# values (NumPy scalars: 0.188-0.21 s against 0.178-0.189 s, alternating, 2026-11-29).
 @njit(cache=True)
 def _root(kind, a, h, tau_a, v_a, s, fm, km, level, lo, hi, f_lo, f_hi, zero_above):
     """The crossing in [lo, hi] of a function monotone there (:func:`_root_value`),
