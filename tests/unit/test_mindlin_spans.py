@@ -66,9 +66,10 @@ def _span_map(tape, table, b0, b1):
 
 
 def _stick(tape, table, b0, b1, x0, v0, e0):
-    """(x, ẋ, e) at the end of rows [b0, b1) of lanes stuck from (x0, ẋ0, e0) (arrays),
-    and the least of their margins μ_s N(t) - |F + e(t)| - recomputed by the caller from
-    the e samples: here (e samples, N samples) at every RK4 step, by RK4 in τ."""
+    """(x [m], ẋ [m/s], e [N]) at the end of rows [b0, b1) of lanes stuck from
+    (x0, ẋ0, e0) (arrays), by classical RK4 in τ, STEPS steps a row, and the samples of
+    e (one row per step, a column per lane) and of N [N] (one per step) at the start
+    and after every step, from which the caller finds the lanes' margins."""
     x, v, e = (np.array(z, dtype=float) for z in (x0, v0, e0))
     e_samples, n_samples = [e.copy()], [np.full(1, nt.coefficients(tape, b0)[0])]
     for r in range(b0, b1):

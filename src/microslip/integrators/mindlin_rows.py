@@ -60,8 +60,10 @@ def run_rows(lanes, n, rows, lo, hi, pieces, base, coarse, laws, flying, switche
     (:func:`~microslip.integrators.mindlin_windows.cross`: ``window`` its buffers, rows
     [0, ``in_sight``) in sight, ``final`` where they end the run, ``dt`` [s] the rows'
     grid step), where ``windowed``; at each grid point in contact it looks a few rows
-    ahead for a lift-off to start one at. Returns (status, whether the lanes are in
-    flight); LEFT_ROUGH_CONTACT where a window does not fit the rows in sight."""
+    ahead for a lift-off to start one at (a window moves every lane of ``lanes``: such a
+    set-up's rows take all of them, n = lanes.shape[1]; only the spans of the other
+    set-ups pass a compact copy). Returns (status, whether the lanes are in flight);
+    LEFT_ROUGH_CONTACT where a window does not fit the rows in sight."""
     rough = not supports_exponent(laws[EXPONENT])
     for r in range(lo, hi):
         h = rows[r, nt.H]
