@@ -5,7 +5,8 @@ contact point sliding forward (s = +1) while the body moves back has s u̇ > 0 i
 (the spring unloads with N), and u̇ = ẋ < 0 in flight: over the whole step the sliding
 speed's ends differ in sign, a jump at the lift-off, not a stop. first_switch must
 return the lift-off, located as on its own, and must still find a tangential flip that
-comes before it (a release of a stuck point as N falls).
+comes before it (a release of a stuck point as N falls). The state it hands back for the
+step to the flip is that step's.
 """
 
 import math
@@ -18,7 +19,7 @@ from microslip.analysis.free_vibration import free_period
 from microslip.integrators import normal_tape as nt
 from microslip.integrators import periodic_tape, switching
 from microslip.integrators.kernel import as_tuple
-from microslip.integrators.methods import RK4, RK4_GRADED, WORK_ROWS
+from microslip.integrators.methods import DOP853, RK4, RK4_GRADED, WORK_ROWS, advance
 from microslip.integrators.mindlin_windows import on_grid
 from microslip.integrators.steppers import rk4_step
 from microslip.model.normal import normal_force
@@ -79,7 +80,7 @@ def _alone(which, method, state, s1, mode, t0, h, laws):
     scratch = np.zeros(N_STATE), np.zeros(N_STATE), np.zeros(N_STATE)
     return switching._resolve(verdict, which, method, state, t0, h, mode, laws, 1.0,
                               scratch[0], g0, g1, r0, r1, scratch[1], scratch[2],
-                              work)  # fmt: skip
+                              work)[0]  # fmt: skip
 
 
 def test_the_sliding_speeds_jump_at_a_lift_off_is_not_taken_for_a_stop(lift_off_step):
@@ -87,7 +88,7 @@ def test_the_sliding_speeds_jump_at_a_lift_off_is_not_taken_for_a_stop(lift_off_
     state = np.zeros(N_STATE)
     state[Y], state[YDOT], state[XDOT] = y, ydot, -5e-6
     state[FT] = PARAMS.mu * normal  # on the kinetic limit, sliding forward
-    (theta, which), s1 = _first(state, 1.0, t0, h, laws)
+    (theta, which, _held), s1 = _first(state, 1.0, t0, h, laws)
     # Over the whole step the sliding speed changes sign (the jump at the lift-off) ...
     verdict = switching._screen(SLIDING_SPEED, t0, h, 1.0, laws, state_tuple(state),
                                 state_tuple(s1))[0]  # fmt: skip
@@ -102,7 +103,7 @@ def test_a_release_before_the_lift_off_is_still_found(lift_off_step):
     state = np.zeros(N_STATE)
     state[Y], state[YDOT] = y, ydot
     state[FT] = 0.5 * PARAMS.mu * normal  # stuck, released once μ N falls to |f|
-    (theta, which), s1 = _first(state, 0.0, t0, h, laws)
+    (theta, which, _held), s1 = _first(state, 0.0, t0, h, laws)
     lift = _alone(CONTACT_GAP, RK4_GRADED, state, s1, 0.0, t0, h, laws)
     release = _alone(STICK_MARGIN, RK4, state, s1, 0.0, t0, h, laws)
     assert release < lift
@@ -110,3 +111,38 @@ def test_a_release_before_the_lift_off_is_still_found(lift_off_step):
     # Located on the sub-step before the lift-off: the same instant to its tolerance.
     tolerance = 4.0 * np.finfo(float).eps * (t0 + h) / h
     assert abs(theta - release) <= 2.0 * tolerance
+
+
+def test_the_state_handed_back_is_the_very_step_to_the_switch(lift_off_step):
+    """first_switch hands back, where it says ``held``, the locating's last trial past
+    the flip, which piece_end takes instead of stepping there again: it must be that
+    step's bits (a trial from the bracket's near side, or a sub-step's trial, would be
+    near it but not equal). Lift-offs (graded RK4), releases (RK4) and DOP853's own."""
+    t0, h, y, ydot, normal, laws = lift_off_step
+    dop_atol = np.full(N_STATE, 1e-12)
+    held_count = located = 0
+    for method in (RK4, DOP853):
+        for mode, ft_share, xdot in [
+            (1.0, 1.0, 5e-6), (1.0, 1.0, -5e-6), (-1.0, -1.0, -5e-6), (0.0, 0.0, 0.0),
+            (0.0, 0.5, 0.0), (0.0, -0.8, 1e-7), (0.0, 0.95, -1e-7), (1.0, 1.0, 0.0),
+        ]:  # fmt: skip
+            state = np.zeros(N_STATE)
+            state[Y], state[YDOT], state[XDOT] = y, ydot, xdot
+            state[FT] = ft_share * PARAMS.mu * normal
+            work = np.zeros((WORK_ROWS, N_STATE))
+            s1 = np.zeros(N_STATE)
+            advance(method, state, t0, h, mode, laws, 1e-10, dop_atol, s1, work)
+            trial, extremum = np.zeros(N_STATE), np.zeros(N_STATE)
+            theta, which, held = switching.first_switch(
+                method, state, s1, t0, h, mode, laws, 1e-10, dop_atol, trial, extremum, work
+            )
+            assert which >= 0 and theta < 1.0
+            located += 1
+            if held:
+                held_count += 1
+                again = np.zeros(N_STATE)
+                by = switching.method_for(method, which, laws)
+                advance(by, state, t0, theta * h, mode, laws, 1e-10, dop_atol, again, work)
+                assert np.array_equal(extremum, again), (method, mode, ft_share, xdot)
+    # The saving is real: most located switches hand their step back.
+    assert held_count >= located // 2, (held_count, located)

@@ -109,9 +109,15 @@ def piece_end(method, s, s1, t, h, mode, c, rtol, atol, piece, trial, extremum, 
     shared by :func:`integrate_chunk` and the batched kernel, which call it only when
     :func:`~microslip.integrators.switching.may_switch` says a switch may be inside.
     """
-    theta, which = first_switch(method, s, s1, t, h, mode, c, rtol, atol, trial, extremum, work)
+    theta, which, held = first_switch(
+        method, s, s1, t, h, mode, c, rtol, atol, trial, extremum, work
+    )
     if which >= 0 and theta < 1.0:
-        advance(method_for(method, which, c), s, t, theta * h, mode, c, rtol, atol, piece, work)
+        if held:  # the locating's last trial past the flip: that very step
+            copy_state(extremum, piece)
+        else:
+            advance(method_for(method, which, c), s, t, theta * h, mode, c, rtol, atol, piece,
+                    work)  # fmt: skip
     else:
         copy_state(s1, piece)
     return theta, which
@@ -203,7 +209,7 @@ def integrate_chunk(
             # without ever reaching it (step underflow). Aim once at the switch instead:
             # the step to it is smooth, and the switch is then located as usual.
             if not aimed and may_switch(t, h, mode, c, state_tuple(s), state_tuple(s1)):
-                theta, which = first_switch(
+                theta, which, _held = first_switch(
                     method, s, s1, t, h, mode, c, rtol, atol, trial, extremum, work
                 )
                 if which >= 0 and factor < theta < 1.0:

@@ -78,7 +78,12 @@ def rk4_graded_step(s, t, h, mode, c, out, work):
     sub-step next to the corner carries ~2^(-1.5 L) of a single step's error there;
     elsewhere it is RK4, 4th order. A fixed count of sub-steps: no loop can run on."""
     n = s.shape[0]
-    here = s.copy()  # a rare step (one per located graded switch): allocating is fine
+    # The sub-steps start from the last row of ``work`` (RK4 uses its first four): a view
+    # taken once a step, where a copy of ``s`` allocated at every trial of a located
+    # graded switch (~5 a lift-off or touchdown on a Hertz Mindlin contact).
+    here = work[WORK_ROWS - 1]
+    for i in range(n):
+        here[i] = s[i]
     t_here = t
     length = 0.5 * h
     for level in range(GRADED_LEVELS + 1):

@@ -154,17 +154,23 @@ def bracket_step(theta, lo, hi, f_lo, f_hi, retained, f_mid, same_side, slope, t
 
 
 @njit(cache=True)
-def locate(which, of_rate, method, s0, t, h, mode, c, rtol, atol, lo, hi, f_lo, f_hi, trial, work):
-    """Fraction θ in (lo, hi] of the step where switching function ``which`` flips
-    (its rate ġ, when ``of_rate``).
+def locate(which, of_rate, method, s0, t, h, mode, c, rtol, atol, lo, hi, f_lo, f_hi, trial,
+           work, at_hi):  # fmt: skip
+    """(θ, held): the fraction θ in (lo, hi] of the step where switching function
+    ``which`` flips (its rate ġ, when ``of_rate``), and whether ``at_hi`` holds the step
+    of length θh from ``s0``.
 
     Each trial state is a step of length θh from ``s0`` (written into ``trial``). For g
     itself Newton steps use ġ; the bracket [lo, hi] is kept, and a trial outside it falls
     back to Illinois false position (the only iteration for ġ): :func:`bracket_step`.
-    Returns the first θ known to lie past the flip, to within a few ulps of t.
+    Returns the first θ known to lie past the flip, to within a few ulps of t. Each
+    trial that becomes the bracket's far end is copied into ``at_hi``: the caller steps
+    to the flip from there instead of taking that step once more (the same bits: a step
+    depends only on its start, length, mode and coefficients).
     """
     side_lo = _side(which, of_rate, f_lo)
     theta, tolerance, retained = bracket_start(t, h, lo, hi, f_lo, f_hi)
+    held = False
     for _ in range(200):
         if hi - lo <= tolerance:
             break
@@ -173,11 +179,15 @@ def locate(which, of_rate, method, s0, t, h, mode, c, rtol, atol, lo, hi, f_lo, 
         x_mid = state_tuple(trial)
         f_mid = _evaluate(which, of_rate, t_mid, x_mid, mode, c)
         slope = math.nan if of_rate else switching_rate(which, t_mid, x_mid, mode, c) * h
+        same_side = _side(which, of_rate, f_mid) == side_lo
+        if not same_side:  # this trial becomes hi
+            for i in range(trial.shape[0]):
+                at_hi[i] = trial[i]
+            held = True
         theta, lo, hi, f_lo, f_hi, retained = bracket_step(
-            theta, lo, hi, f_lo, f_hi, retained, f_mid, _side(which, of_rate, f_mid) == side_lo,
-            slope, tolerance,
-        )  # fmt: skip
-    return hi
+            theta, lo, hi, f_lo, f_hi, retained, f_mid, same_side, slope, tolerance
+        )
+    return hi, held
 
 
 # Inlined into its two callers (may_switch, every step; first_switch): a compiled call
@@ -242,34 +252,38 @@ def two_sided_may_flip(g0, g1, r0, r1, h):
 def _resolve(
     verdict, which, method, s0, t, h, mode, c, rtol, atol, g0, g1, r0, r1, trial, extremum, work
 ):  # fmt: skip
-    """θ of the first flip of switching function ``which`` in the step after a verdict
-    of :func:`_screen` other than _CLEAR, or NO_SWITCH."""
+    """(θ, held): θ of the first flip of switching function ``which`` in the step after
+    a verdict of :func:`_screen` other than _CLEAR, or NO_SWITCH; held where
+    ``extremum`` holds the step to θ (:func:`locate`)."""
     if verdict == _CROSSING:
         return locate(
-            which, _OF_VALUE, method, s0, t, h, mode, c, rtol, atol, 0.0, 1.0, g0, g1, trial, work
-        )
+            which, _OF_VALUE, method, s0, t, h, mode, c, rtol, atol, 0.0, 1.0, g0, g1, trial,
+            work, extremum,
+        )  # fmt: skip
     in0 = inside(which, g0)
     rising = (not in0) and holds_only_inside(which)
-    theta_x = locate(
-        which, _OF_RATE, method, s0, t, h, mode, c, rtol, atol, 0.0, 1.0, r0, r1, trial, work
-    )
+    theta_x, held = locate(
+        which, _OF_RATE, method, s0, t, h, mode, c, rtol, atol, 0.0, 1.0, r0, r1, trial, work,
+        extremum,
+    )  # fmt: skip
     if not (0.0 < theta_x < 1.0):
-        return NO_SWITCH
-    advance(method, s0, t, theta_x * h, mode, c, rtol, atol, extremum, work)
+        return NO_SWITCH, False
+    if not held:
+        advance(method, s0, t, theta_x * h, mode, c, rtol, atol, extremum, work)
     gx = switching_value(which, t + theta_x * h, state_tuple(extremum), mode, c)
     if rising:
         if inside(which, gx):  # rose, then falls back through zero by the step end
             return locate(
                 which, _OF_VALUE, method, s0, t, h, mode, c, rtol, atol, theta_x, 1.0, gx, g1,
-                trial, work,
+                trial, work, extremum,
             )  # fmt: skip
-        return NO_SWITCH
+        return NO_SWITCH, False
     if inside(which, gx) != in0:
         return locate(
             which, _OF_VALUE, method, s0, t, h, mode, c, rtol, atol, 0.0, theta_x, g0, gx,
-            trial, work,
+            trial, work, extremum,
         )  # fmt: skip
-    return NO_SWITCH
+    return NO_SWITCH, False
 
 
 @njit(cache=True, error_model="numpy")
@@ -298,10 +312,12 @@ def first_switch(method, s0, s1, t, h, mode, c, rtol, atol, trial, extremum, wor
     """Earliest switching inside a trial step from (t, s0) to (t + h, s1).
 
     ``trial`` and ``extremum`` are scratch states, ``work`` the steps' scratch (see
-    :func:`microslip.integrators.methods.advance`). Returns (θ, which) with θ in (0, 1],
-    or (NO_SWITCH, -1) when the step holds no switch. On a tie (flips within two
-    tolerances of each other) the function listed first by the model wins. A flip is
-    located with :func:`method_for`'s method, which the caller also takes to step to it.
+    :func:`microslip.integrators.methods.advance`). Returns (θ, which, held) with θ in
+    (0, 1], or (NO_SWITCH, -1, False) when the step holds no switch; held where
+    ``extremum`` holds the step of length θh from ``s0`` (its locating's last trial past
+    the flip). On a tie (flips within two tolerances of each other) the function listed
+    first by the model wins. A flip is located with :func:`method_for`'s method, which
+    the caller also takes to step to it.
 
     The functions go in the model's order, the normal motion's (the contact) first.
     Once one flips at θ, each later one is screened and located only on the sub-step
@@ -320,6 +336,7 @@ def first_switch(method, s0, s1, t, h, mode, c, rtol, atol, trial, extremum, wor
     # sub-step is stepped once for each earliest flip and method, not once a function.
     end, h_end, x_end = 1.0, h, x1
     sub_best, sub_method = NO_SWITCH, -1
+    best_held = False
     for which in range(N_SWITCHES):
         if not switch_active(which, mode, c):
             continue
@@ -335,7 +352,7 @@ def first_switch(method, s0, s1, t, h, mode, c, rtol, atol, trial, extremum, wor
         verdict, g0, g1, r0, r1 = _screen(which, t, h_end, mode, c, x0, x_end)
         if verdict == _CLEAR:
             continue
-        theta = _resolve(
+        theta, held = _resolve(
             verdict, which, located_by, s0, t, h_end, mode, c, rtol, atol, g0, g1, r0, r1,
             trial, extremum, work,
         )  # fmt: skip
@@ -344,4 +361,8 @@ def first_switch(method, s0, s1, t, h, mode, c, rtol, atol, trial, extremum, wor
         if theta < best:
             best = theta
             which_best = which
-    return best, which_best
+            # On a sub-step, (θ·end)·h may round apart from θ·(end·h): step again.
+            best_held = held and end == 1.0
+        else:
+            best_held = False  # ``extremum`` may have been written over
+    return best, which_best, best_held
