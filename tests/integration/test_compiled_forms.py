@@ -58,6 +58,7 @@ laws = {
     "normal_force_rate": normal.normal_force_rate,
     "friction_limit": friction.friction_limit,
     "kinetic_coefficient": friction.kinetic_coefficient,
+    "kinetic_coefficient_at_rest": friction.kinetic_coefficient_at_rest,
     "normal_acceleration_call": system.normal_acceleration_call,
 }
 print(json.dumps({

@@ -142,3 +142,26 @@ def test_paper_parts_spelled_out_are_bit_identical(method, force, fraction):
     assert spelled.is_paper is False  # it has a drive part, but the same laws
     kwargs = {"duration": 0.005, "amplitude": amplitude, "method": method}
     _same(ms.simulate(spelled, **kwargs), ms.simulate(ms.Model(P), force=force, **kwargs))
+
+
+@pytest.mark.parametrize(
+    "friction",
+    [
+        ms.Coulomb(),
+        ms.StaticKinetic(mu_static=0.15, mu_kinetic=0.1),
+        ms.Stribeck(mu_static=0.15, mu_kinetic=0.1, velocity=1e-3, exponent=0.5),
+        ms.Stribeck(mu_static=0.3, mu_kinetic=0.07, velocity=2e-4, exponent=2.0),
+    ],
+)
+def test_the_kinetic_coefficient_at_rest_is_the_laws_at_speed_zero(friction):
+    """kinetic_coefficient_at_rest, the compliant contact point's kinetic limit written
+    without Stribeck's power and exponential, gives kinetic_coefficient(0, c)'s bits:
+    μ_k, or Stribeck's μ(0) = μ_s (to rounding)."""
+    from microslip.integrators.kernel import as_tuple
+    from microslip.model.friction import kinetic_coefficient, kinetic_coefficient_at_rest
+
+    c = as_tuple(ms.Model(P, friction=friction).pack(0.3))
+    at_rest = kinetic_coefficient_at_rest(c)
+    assert at_rest == kinetic_coefficient(0.0, c)
+    expected = friction.mu_static if isinstance(friction, ms.Stribeck) else c[co.MU]
+    assert at_rest == pytest.approx(expected, rel=1e-15)

@@ -43,6 +43,7 @@ __all__ = [
     "friction_limit",
     "friction_limit_rate",
     "kinetic_coefficient",
+    "kinetic_coefficient_at_rest",
     "kinetic_coefficients",
 ]
 
@@ -152,6 +153,21 @@ def kinetic_coefficient(speed: float, c: np.ndarray) -> float:
     if c[FRICTION_KIND] == STRIBECK:
         ratio = abs(speed) / c[STRIBECK_VELOCITY]
         return c[MU] + (c[MU_STATIC] - c[MU]) * math.exp(-(ratio ** c[STRIBECK_EXPONENT]))
+    return c[MU]
+
+
+@njit(cache=True, error_model="numpy")
+def kinetic_coefficient_at_rest(c: np.ndarray) -> float:
+    """μ [-] of :func:`kinetic_coefficient` at speed 0, with the same bits: μ_k, or
+    Stribeck's μ(0) = μ_k + (μ_s - μ_k) (its factor exp(-0) is exactly 1).
+
+    The kinetic limit of a compliant contact point, which starts and ends its slips at
+    rest. Written without the Stribeck law's power and exponential: called with the
+    constant speed 0 inside a step's loop, those were loop-invariant, and LLVM hoisted
+    the (speculatable) calls out of the loop, so every RK4 step paid a pow and an exp
+    whatever the friction law (~5% of a Hertz Mindlin time map with flights)."""
+    if c[FRICTION_KIND] == STRIBECK:
+        return c[MU] + (c[MU_STATIC] - c[MU])
     return c[MU]
 
 

@@ -22,7 +22,11 @@ from numba import njit
 from microslip import _jit_cache  # noqa: F401  (registers the cache before any @njit)
 from microslip.model.coefficients import GRAVITY, MASS
 from microslip.model.drive import drive_force
-from microslip.model.friction import friction_limit, friction_limit_rate, kinetic_coefficient
+from microslip.model.friction import (
+    friction_limit,
+    friction_limit_rate,
+    kinetic_coefficient_at_rest,
+)
 from microslip.model.normal import gap
 from microslip.model.switching_functions import separation_value
 from microslip.model.system import (
@@ -83,7 +87,7 @@ def _drop_to_kinetic_limit(t, s, direction, normal, c):
     to the kinetic limit μ_k N at once and the massless point jumps as the spring
     recovers (f = k_t (x - u) in the spring's own increments), in place in ``s``."""
     held = s[FT]
-    s[FT] = direction * kinetic_coefficient(0.0, c) * normal
+    s[FT] = direction * kinetic_coefficient_at_rest(c) * normal
     stiffness = tangential_stiffness(gap(t, s[Y], s[YDOT], c)[0], c)
     if stiffness > 0.0:
         s[U] += (held - s[FT]) / stiffness
@@ -151,7 +155,7 @@ def _touchdown_mode(t, s, c):
     if limit_rate >= loading:
         return 0.0
     direction = sign(s[XDOT])
-    s[FT] = direction * kinetic_coefficient(0.0, c) * normal
+    s[FT] = direction * kinetic_coefficient_at_rest(c) * normal
     return direction
 
 
@@ -177,7 +181,7 @@ def _compliant_switch(which, t, s, mode, c):
         return direction, SLIP_START
     # The contact point comes to rest on the limit f = μ_k N sgn: it sticks (f can
     # only fall back inside the static limit, never reverse at once).
-    s[FT] = mode * kinetic_coefficient(0.0, c) * normal
+    s[FT] = mode * kinetic_coefficient_at_rest(c) * normal
     return 0.0, STICK_START
 
 

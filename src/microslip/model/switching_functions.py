@@ -18,6 +18,8 @@ STICK_MARGIN, SLIDING_SPEED):
 
 from __future__ import annotations
 
+import math
+
 from numba import njit
 
 from microslip import _jit_cache  # noqa: F401  (registers the cache before any @njit)
@@ -196,7 +198,7 @@ _RATE_STEP = 1e-7
 def _contact_point_acceleration(t, s, mode, c):
     """ü [m/s^2] of a sliding compliant contact point, by a central difference along
     the flow of :func:`derivatives` (see ``_RATE_STEP``)."""
-    eps = _RATE_STEP * (c[STATIC_DEFLECTION] / c[GRAVITY]) ** 0.5
+    eps = _RATE_STEP * math.sqrt(c[STATIC_DEFLECTION] / c[GRAVITY])
     d = _derivatives_call(t, s, mode, c)
     plus = (
         s[Y] + eps * d[0], s[YDOT] + eps * d[1], s[X] + eps * d[2],

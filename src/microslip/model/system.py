@@ -58,7 +58,7 @@ from microslip.model.coefficients import (
 )
 from microslip.model.damping import can_separate_in_overlap
 from microslip.model.drive import drive_force, is_kinematic
-from microslip.model.friction import kinetic_coefficient
+from microslip.model.friction import kinetic_coefficient, kinetic_coefficient_at_rest
 from microslip.model.normal import (
     acceleration_from_force,
     gap,
@@ -258,7 +258,7 @@ def contact_point_rates(t, s, mode, normal, c):
     if mode == 0.0:
         return 0.0, stiffness * xdot
     force_rate = (
-        mode * kinetic_coefficient(0.0, c) * raw_normal_force_rate_call(t, y, ydot, normal, c)
+        mode * kinetic_coefficient_at_rest(c) * raw_normal_force_rate_call(t, y, ydot, normal, c)
     )
     if stiffness <= 0.0:
         return xdot, force_rate
@@ -275,7 +275,7 @@ def body_acceleration(normal, t, s, mode, c):
             # In slip the spring force is on its limit, f = mode μ_k N: the limit itself,
             # not the integrated f, whose rate μ_k Ṅ is singular at a touchdown
             # (Ṅ ∝ δ^(m2-1) δ̇) and costs RK4 its order there.
-            friction = mode * kinetic_coefficient(0.0, c) * normal
+            friction = mode * kinetic_coefficient_at_rest(c) * normal
             return (drive_force(t, s[X], c) - friction) / c[MASS]
         return (drive_force(t, s[X], c) - s[FT]) / c[MASS]
     return _body_slip_acceleration(normal, t, s, mode, c)
