@@ -89,6 +89,28 @@ def test_a_free_vibrations_long_time_map_is_estimated_on_its_repeated_tape(monke
     assert spec.estimate().seconds < stepped.estimate().seconds / 50
 
 
+@pytest.mark.parametrize("kernel", ["shared", "spring", "mindlin"])
+def test_a_repeated_tape_prices_the_set_up_steps_of_the_compliant_kernels_alone(
+    kernel, monkeypatch
+):
+    """``repeated_tape`` says the normal motion repeats: a spring or Mindlin set-up step
+    then costs a repeated row; the rigid lanes' repeated tape is priced by the fractions
+    (the caller no longer tests the kernel: the estimate does, once). The repeated row's
+    price is set apart from the rigid set-up step's, which it equals today."""
+    monkeypatch.setattr(cost, "COMPLIANT_S_PER_REPEATED_ROW", 0.7e-6)
+    sizes = dict(method="time", n_sets=1, n_forces=64, n_amplitudes=16, lane_steps=1e9,
+                 setup_steps=1.6e6, kernel=kernel, n_chunks=1)  # fmt: skip
+    stepped = cost.estimate_sweep(**sizes).seconds
+    repeated = cost.estimate_sweep(**sizes, repeated_tape=True).seconds
+    if kernel == "shared":
+        assert repeated == stepped
+    else:
+        assert repeated != stepped
+        set_up = {"spring": cost.SPRING_S_PER_SETUP_STEP, "mindlin": cost.MINDLIN_S_PER_SETUP_STEP}
+        shift = 1.6e6 * (cost.COMPLIANT_S_PER_REPEATED_ROW - set_up[kernel])
+        assert repeated - stepped == pytest.approx(shift, rel=1e-9)
+
+
 def test_repeated_tape_work_follows_the_tape_and_the_lanes():
     from microslip.sweeps.kernel_choice import parking_fractions, repeated_tape_work
 

@@ -212,12 +212,9 @@ def estimate_work(
         # A forced model's chunks (one set-up each) run up to LOCAL_BATCH at a time, their
         # set-ups spread over the threads (each round above counted one).
         setup_steps /= min(cost.batch_threads(), cost.LOCAL_BATCH, max(n_chunks, 1))
-    # The spring and Mindlin lanes of a free vibration run on its repeated tape too.
-    repeated = (
-        kernel != "shared"
-        and amplitudes is not None
-        and repeats_from_rest(model, float(np.max(amplitudes)))
-    )
+    # The spring and Mindlin lanes of a free vibration run on its repeated tape too (the
+    # rigid lanes' repeated tape is in the fractions above): cost.estimate_sweep decides.
+    repeated = amplitudes is not None and repeats_from_rest(model, float(np.max(amplitudes)))
     values = n_forces + n_amplitudes + sum(len(v) for _, v in param_axes)
     estimate = cost.estimate_sweep(
         method=method,
