@@ -77,6 +77,11 @@ def _alone(which, method, state, s1, mode, t0, h, laws):
     verdict, g0, g1, r0, r1 = switching._screen(which, t0, h, mode, laws, state_tuple(state),
                                                 state_tuple(s1))  # fmt: skip
     assert verdict != switching._CLEAR
+    if verdict == switching._CROSSING:  # the ends' rates, as first_switch passes them
+        r0 = r1 = math.nan
+        if method != RK4:
+            r0 = switching.switching_rate(which, t0, state_tuple(state), mode, laws) * h
+            r1 = switching.switching_rate(which, t0 + h, state_tuple(s1), mode, laws) * h
     scratch = np.zeros(N_STATE), np.zeros(N_STATE), np.zeros(N_STATE)
     return switching._resolve(verdict, which, method, state, t0, h, mode, laws, 1.0,
                               scratch[0], g0, g1, r0, r1, scratch[1], scratch[2],
