@@ -79,7 +79,7 @@ def _alone(which, method, state, s1, mode, t0, h, laws):
     assert verdict != switching._CLEAR
     if verdict == switching._CROSSING:  # the ends' rates, as first_switch passes them
         r0 = r1 = math.nan
-        if method != RK4:
+        if method == RK4_GRADED:
             r0 = switching.switching_rate(which, t0, state_tuple(state), mode, laws) * h
             r1 = switching.switching_rate(which, t0 + h, state_tuple(s1), mode, laws) * h
     scratch = np.zeros(N_STATE), np.zeros(N_STATE), np.zeros(N_STATE)

@@ -388,12 +388,15 @@ def first_switch(method, s0, s1, t, h, mode, c, rtol, atol, trial, extremum, wor
         if verdict == _CLEAR:
             continue
         if verdict == _CROSSING:
-            # A first trial from the ends' rates saves one of a search's ~4 trials; worth
-            # two rate evaluations where a trial is a graded RK4 step (nine) or DOP853's
-            # twelve stages, not where it is one RK4 step (a compliant point's sliding
-            # speed takes a central difference of the flow for its rate).
+            # A first trial from the ends' rates saves one of a search's ~4 trials: worth
+            # two rate evaluations where a trial is a graded RK4 step (nine RK4 steps), not
+            # where it is one (a compliant point's sliding speed takes a central
+            # difference of the flow for its rate). Not for DOP853 either: its searches
+            # kept their trials, and with them the outcome of a stop that grazes zero (a
+            # Coulomb spring drive's velocity touching 0, tests/unit/test_spring_stick_
+            # slip.py), which a start moved by rounding turned into a stick.
             r0, r1 = math.nan, math.nan
-            if located_by != RK4:
+            if located_by == RK4_GRADED:
                 r0 = switching_rate(which, t, x0, mode, c) * h_end
                 r1 = switching_rate(which, t + h_end, x_end, mode, c) * h_end
         theta, held = _resolve(
