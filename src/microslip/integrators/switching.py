@@ -118,12 +118,10 @@ def bracket_start(t, h, lo, hi, f_lo, f_hi):
 
 @njit(cache=True)
 def hermite_start(theta, lo, hi, f_lo, f_hi, r_lo, r_hi):
-    """A first trial in (lo, hi) better than false position's ``theta``, where the
-    rates in θ of the value at the bracket's ends, ``r_lo`` and ``r_hi`` (h·ġ), are
-    known: the root of the cubic Hermite interpolant of the ends' values and rates, by
-    Newton's method from ``theta``. ``theta`` itself where a rate is NaN or the root
-    falls outside. Only the start changes: the search's bracket is kept as before, so
-    a poor start costs trials, never the result's certainty."""
+    """A first trial in (lo, hi) better than false position's ``theta``: the root of
+    the cubic Hermite interpolant of the ends' values and rates in θ (``r_lo``, ``r_hi``
+    = h·ġ), by Newton from ``theta``; ``theta`` where a rate is NaN or the root falls
+    outside. A poor start costs trials, never the result: the bracket is kept."""
     if math.isnan(r_lo) or math.isnan(r_hi):
         return theta
     d = hi - lo
@@ -388,13 +386,9 @@ def first_switch(method, s0, s1, t, h, mode, c, rtol, atol, trial, extremum, wor
         if verdict == _CLEAR:
             continue
         if verdict == _CROSSING:
-            # A first trial from the ends' rates saves one of a search's ~4 trials: worth
-            # two rate evaluations where a trial is a graded RK4 step (nine RK4 steps), not
-            # where it is one (a compliant point's sliding speed takes a central
-            # difference of the flow for its rate). Not for DOP853 either: its searches
-            # kept their trials, and with them the outcome of a stop that grazes zero (a
-            # Coulomb spring drive's velocity touching 0, tests/unit/test_spring_stick_
-            # slip.py), which a start moved by rounding turned into a stick.
+            # A start from the ends' rates saves one of ~4 trials: worth two rate
+            # evaluations on graded trials only (docs/design.md, "The state and the
+            # integrators": plain RK4's cost as much, DOP853's keep their grazing stops).
             r0, r1 = math.nan, math.nan
             if located_by == RK4_GRADED:
                 r0 = switching_rate(which, t, x0, mode, c) * h_end
