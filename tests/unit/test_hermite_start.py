@@ -1,4 +1,4 @@
-"""switching.hermite_start: the first trial of a located crossing from the values and
+"""bracket.hermite_start: the first trial of a located crossing from the values and
 rates at the bracket's ends (the root of their cubic Hermite interpolant).
 
 On a cubic the interpolant is the function itself, so the start must be its root to
@@ -10,7 +10,7 @@ import math
 
 import pytest
 
-from microslip.integrators.switching import hermite_start
+from microslip.integrators.bracket import hermite_start
 
 
 def _cubic(theta):

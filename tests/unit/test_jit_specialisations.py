@@ -21,6 +21,7 @@ from numba.core import types
 
 import microslip as ms
 from microslip.integrators import (
+    bracket,
     kernel,
     lane_parking,
     methods,
@@ -48,7 +49,7 @@ DISPATCHERS = {
     "_screen": switching._screen,
     "_resolve": switching._resolve,
     "locate": switching.locate,
-    "bracket_step": switching.bracket_step,
+    "bracket_step": bracket.bracket_step,
     "contact_switch": normal_step.contact_switch,
     "normal_step._locate": normal_step._locate,
     "contact_event": switches.contact_event,

@@ -37,11 +37,11 @@ from numba import njit
 from microslip import _jit_cache  # noqa: F401  (registers the cache before any @njit)
 from microslip._refcount import NO_REFCOUNT
 from microslip.integrators import threads
+from microslip.integrators.bracket import bracket_start, bracket_step
 from microslip.integrators.dop853_tableau import N_STAGES
 from microslip.integrators.dop853_tableau import A as _A
 from microslip.integrators.dop853_tableau import B as _B
 from microslip.integrators.dop853_tableau import C as _C
-from microslip.integrators.switching import bracket_start, bracket_step
 from microslip.model.coefficients import GRAVITY, MASS, STATIC_DEFLECTION, as_tuple
 from microslip.model.contact import elastic_force, elastic_stiffness
 from microslip.model.damping import can_separate_in_overlap, damped_force_partials

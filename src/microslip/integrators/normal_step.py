@@ -11,7 +11,7 @@ is rigid), so a flip is reached by a plain RK4 step.
 Here they are screened and located as :mod:`~microslip.integrators.switching` does for
 the whole model: the same screening (:func:`~microslip.integrators.switching.two_sided_may_flip`),
 the same search (Newton on ġ inside the bracket, Illinois false position otherwise:
-:func:`~microslip.integrators.switching.bracket_step`), on trial steps of the same RK4
+:func:`~microslip.integrators.bracket.bracket_step`), on trial steps of the same RK4
 arithmetic, evaluated by the same law functions. The switch instants are so those of
 ``simulate(method="rk4")``. Why not call ``first_switch`` itself: it is written for every
 switching function of the model and every method (DOP853 among them), and every kernel
@@ -27,12 +27,8 @@ import numpy as np
 from numba import njit
 
 from microslip import _jit_cache  # noqa: F401  (registers the cache before any @njit)
-from microslip.integrators.switching import (
-    NO_SWITCH,
-    bracket_start,
-    bracket_step,
-    two_sided_may_flip,
-)
+from microslip.integrators.bracket import bracket_start, bracket_step
+from microslip.integrators.switching import NO_SWITCH, two_sided_may_flip
 from microslip.model.damping import can_separate_in_overlap
 from microslip.model.excitation import is_prescribed
 from microslip.model.normal import (
