@@ -83,9 +83,13 @@ def _module_index(files: list[Path], package_dir: Path) -> dict[str, Path]:
 
 
 # Import statements, matched on the text so that only they are parsed (a whole-module parse
-# costs tens of ms at every start); anything the match cuts short parses the module.
+# costs tens of ms at every start); anything the match cuts short parses the module. A
+# parenthesised list may hold comments, whose own parentheses do not close it
+# ("
 _IMPORT = re.compile(
-    r"^[ \t]*(from[ \t]+[.\w]+[ \t]+import[ \t]+(?:\([^)]*\)|[^\n]*)|import[ \t]+[^\n]*)", re.M
+    r"^[ \t]*(from[ \t]+[.\w]+[ \t]+import[ \t]+(?:\((?:[^)#]|#[^\n]*)*\)|[^\n]*)"
+    r"|import[ \t]+[^\n]*)",
+    re.M,
 )
 
 
@@ -93,8 +97,11 @@ _NUMBA_IMPORT = re.compile(r"^[ \t]*(?:from|import)[ \t]+numba\b", re.M)
 
 
 def _import_nodes(text: str) -> list[ast.AST]:
+    """The import statements of a module's source ``text`` (more nodes where they cannot
+    be told apart: never fewer). The matched statements are parsed together, one parse a
+    module rather than one a statement."""
     try:
-        return [node for m in _IMPORT.finditer(text) for node in ast.parse(m.group(1)).body]
+        return ast.parse("\n".join(m.group(1) for m in _IMPORT.finditer(text))).body
     except SyntaxError:  # a continued line, or prose in a docstring
         return list(ast.walk(ast.parse(text)))
 
