@@ -16,8 +16,17 @@ from microslip.integrators.steppers import GRADED_FINEST, rk4_graded_step, rk4_s
 from microslip.integrators.switching import method_for
 from microslip.model.coefficients import as_tuple
 from microslip.model.switches import initial_mode
-from microslip.model.switching_functions import graded_switch
-from microslip.model.system import CONTACT_GAP, N_STATE, N_SWITCHES, YDOT, Y
+from microslip.model.switching_functions import graded_after, graded_switch
+from microslip.model.system import (
+    CONTACT_GAP,
+    CONTACT_LOST,
+    CONTACT_MADE,
+    FLIGHT,
+    N_STATE,
+    N_SWITCHES,
+    YDOT,
+    Y,
+)
 
 HERTZ = ms.Parameters(m2=1.5)
 
@@ -151,3 +160,36 @@ def test_a_run_split_into_many_calls_keeps_its_grading():
     assert runs[0].t.size == runs[1].t.size > 64 * 4
     assert np.array_equal(runs[0].t, runs[1].t)
     assert np.array_equal(runs[0].states, runs[1].states)
+
+
+def test_a_touchdown_is_left_by_graded_steps_a_lift_off_by_one_step_to_the_grid():
+    """Past a touchdown the Mindlin stiffness has its corner: the steps double from the
+    flip (dt/256, dt/128, ...). Past a lift-off the point flies on a smooth right-hand
+    side (model.switching_functions.graded_after): the next step ends on the grid."""
+    model = ms.Model(HERTZ, tangential=ms.MindlinSpring(0.8235), drive=ms.ConstantForce(0.5))
+    y0 = HERTZ.static_deflection
+    state0 = np.array([y0 - 1.3 * y0, 0.0, 0.0, 0.0])  # A = 1.3 y0: a flight a period
+    dt = HERTZ.natural_period / 200
+    run = ms.integrators.integrate(
+        "rk4", model.pack(0.5), state0, 0.0, 4 * HERTZ.natural_period, dt=dt
+    )
+    kinds = list(run.event_kind)
+    assert kinds.count(CONTACT_MADE) >= 3 and kinds.count(CONTACT_LOST) >= 3
+    for t_event, kind in zip(run.event_t, run.event_kind, strict=True):
+        after = run.t[np.searchsorted(run.t, t_event, side="right")]
+        if kind == CONTACT_MADE:
+            assert after - t_event == pytest.approx(GRADED_FINEST * dt, rel=1e-9)
+        elif kind == CONTACT_LOST:
+            assert after == pytest.approx(np.ceil(t_event / dt) * dt, rel=1e-14)
+
+
+@pytest.mark.parametrize("mode, graded", [(0.0, True), (1.0, True), (-1.0, True),
+                                          (FLIGHT, False), (-FLIGHT, False)])  # fmt: skip
+def test_graded_after_a_contact_flip_only_into_contact(mode, graded):
+    rough = _coefficients(ms.Model(HERTZ, tangential=ms.MindlinSpring(0.8235)))
+    smooth = _coefficients(ms.Model(ms.Parameters(), tangential=ms.MindlinSpring(0.8235)))
+    assert graded_after(CONTACT_GAP, mode, rough) == graded
+    assert not graded_after(CONTACT_GAP, mode, smooth)
+    for which in range(N_SWITCHES):
+        if which != CONTACT_GAP:
+            assert not graded_after(which, mode, rough)

@@ -83,7 +83,7 @@ from microslip.integrators.switching import NO_SWITCH, may_switch
 from microslip.model.coefficients import SIZE
 from microslip.model.samples import full_states
 from microslip.model.switches import apply_switch, initial_mode
-from microslip.model.switching_functions import graded_switch
+from microslip.model.switching_functions import graded_after
 from microslip.model.system import N_STATE, X, slip_directions, state_tuple
 
 __all__ = ["DEFAULT_BLOCK", "BatchResult", "block_for", "simulate_batch", "time_grid"]
@@ -135,7 +135,7 @@ def scalar_step(s, mode, t, target, dt, graded_from, c, s1, have_s1, piece, tria
             if switches > MAX_SWITCHES_PER_STEP:
                 return mode, t, switches, True, graded_from
             mode, _kind = apply_switch(which, t_piece, piece, mode, c)
-            if graded_switch(which, c):
+            if graded_after(which, mode, c):
                 graded_from = t_piece
         t = t_piece
         copy_state(piece, s)

@@ -28,7 +28,7 @@ from microslip.integrators.steppers import GRADED_FINEST, rk4_step
 from microslip.integrators.switching import NO_SWITCH, first_switch, may_switch, method_for
 from microslip.model.coefficients import as_tuple
 from microslip.model.switches import apply_switch
-from microslip.model.switching_functions import graded_switch
+from microslip.model.switching_functions import graded_after
 from microslip.model.system import NO_EVENT, state_tuple
 
 # Slots of the carry vector that holds the loop state between calls; the state follows.
@@ -255,7 +255,7 @@ def integrate_chunk(
                 status = STALLED
                 break
             mode, kind = apply_switch(which, t_piece, piece, mode, c)
-            if method == RK4 and graded_switch(which, c):
+            if method == RK4 and graded_after(which, mode, c):
                 grading = True  # leave it by graded steps too (graded_target)
                 graded_from = t_piece
             if kind != NO_EVENT:

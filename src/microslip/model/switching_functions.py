@@ -32,6 +32,7 @@ from microslip.model.friction import friction_limit, friction_limit_rate
 from microslip.model.normal import gap
 from microslip.model.system import (
     CONTACT_GAP,
+    FLIGHT,
     FT,
     SEPARATION,
     SLIDING_SPEED,
@@ -55,6 +56,7 @@ from microslip.model.tangential import is_compliant, stiffness_rough_at_touch
 
 __all__ = [
     "contact_side_rate",
+    "graded_after",
     "graded_switch",
     "holds_only_inside",
     "in_contact",
@@ -148,6 +150,17 @@ def graded_switch(which, c):
     (N ∝ δ^m2) is left to the full steps: graded steps next to it did not lower the
     error of y, which the full steps just past them set."""
     return which == CONTACT_GAP and stiffness_rough_at_touch(c)
+
+
+@njit(cache=True)
+def graded_after(which, mode, c):
+    """True when a fixed-step integrator leaves a flip of switching function ``which``
+    by graded steps (docs/theory/numerics.md, "Order at a touchdown"), ``mode`` the mode
+    the flip entered: a :func:`graded_switch` flip into contact, a touchdown. Past a
+    lift-off the point flies (|mode| = FLIGHT) on a smooth right-hand side (no contact
+    law acts in flight): graded steps there bought nothing, and cost ~8 steps a lift-off
+    on a Hertz Mindlin contact."""
+    return graded_switch(which, c) and abs(mode) != FLIGHT
 
 
 @njit(cache=True)
