@@ -491,12 +491,21 @@ def job_jit(rows):
     )
 
 
+# The peak RSS [bytes] of the map's own process: Linux's VmHWM, the high-water mark of
+# the process's memory since its exec. Not getrusage's ru_maxrss, which on Linux keeps
+# the parent's peak across fork and exec: a child that used 9 MB reported the 1.46 GB
+# its parent held, and this row printed the bench process's own peak (1030-1040 MiB
+# against 830-850 MiB for the map alone, 2026-11-29). Elsewhere ru_maxrss is all there is.
 SUBPROCESS_STORE = """
 import resource, sys, numpy as np, microslip as ms
 n = int(sys.argv[1])
 ms.velocity_map(ms.Parameters(), forces=np.linspace(0.05, 0.95, n),
                 amplitudes=np.linspace(0.0, 3e-7, n), store=sys.argv[2], allow_large=True)
-print(resource.getrusage(resource.RUSAGE_SELF).ru_maxrss * 1024)
+try:
+    with open("/proc/self/status") as status:
+        print(next(int(l.split()[1]) * 1024 for l in status if l.startswith("VmHWM:")))
+except (OSError, StopIteration):
+    print(resource.getrusage(resource.RUSAGE_SELF).ru_maxrss * 1024)
 """
 
 
@@ -504,7 +513,8 @@ def job_memory(n, rows):
     """Peak RSS of a steady map streamed through the chunk store, its kernels loaded from
     the cache: a small map first loads or compiles what the store's path needs, so the
     row measures the streaming and not LLVM's memory while compiling, which is the JIT
-    row's (8192²: 831 MiB warm, 926 MiB from an empty cache, 2026-11-29)."""
+    row's (8192²: 831 MiB warm, 926 MiB from an empty cache, 2026-11-29; both by
+    ru_maxrss from a small parent, see SUBPROCESS_STORE)."""
     with tempfile.TemporaryDirectory() as tmp:
         subprocess.run(
             [sys.executable, "-c", SUBPROCESS_STORE, "64", f"{tmp}/warm.zarr"],
