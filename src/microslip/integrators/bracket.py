@@ -34,6 +34,14 @@ def _inside_bracket(theta, lo, hi):
 
 
 @njit(cache=True, inline="always")
+def _false_position(lo, hi, f_lo, f_hi):
+    """The false-position trial in (lo, hi) from the ends' values (the middle where they
+    are equal or the trial falls outside)."""
+    theta = hi - f_hi * (hi - lo) / (f_hi - f_lo) if f_hi != f_lo else 0.5 * (lo + hi)
+    return _inside_bracket(theta, lo, hi)
+
+
+@njit(cache=True, inline="always")
 def theta_tolerance(t, h):
     """The tolerance in θ of a located switch in a step from t [s] of length h [s]: a
     few ulps of t."""
@@ -46,9 +54,7 @@ def bracket_start(t, h, lo, hi, f_lo, f_hi):
     change in [lo, hi] of a step from t [s] of length h [s], with values ``f_lo``,
     ``f_hi`` at the ends: the false-position trial, the tolerance in θ (a few ulps of
     t) and no end kept yet."""
-    tolerance = theta_tolerance(t, h)
-    theta = hi - f_hi * (hi - lo) / (f_hi - f_lo) if f_hi != f_lo else 0.5 * (lo + hi)
-    return _inside_bracket(theta, lo, hi), tolerance, NONE_RETAINED
+    return _false_position(lo, hi, f_lo, f_hi), theta_tolerance(t, h), NONE_RETAINED
 
 
 @njit(cache=True)
@@ -107,8 +113,4 @@ def bracket_step(theta, lo, hi, f_lo, f_hi, retained, f_mid, same_side, slope, t
         newton = theta - step
         if slope != 0.0 and lo < newton < hi:
             return newton, lo, hi, f_lo, f_hi, retained
-    if f_hi != f_lo:
-        theta = hi - f_hi * (hi - lo) / (f_hi - f_lo)
-    else:
-        theta = 0.5 * (lo + hi)
-    return _inside_bracket(theta, lo, hi), lo, hi, f_lo, f_hi, retained
+    return _false_position(lo, hi, f_lo, f_hi), lo, hi, f_lo, f_hi, retained
